@@ -1,0 +1,41 @@
+# pdcg_add_module(<name> [PUBLIC <targets>...] [PRIVATE <targets>...])
+#
+# Creates the library target pdcg_<name> (alias pdcg::<name>, exported as
+# pdcg::<name>) from every src/<name>/*.cpp, with include/ as its public
+# include directory. Modules depend on each other one way
+# (core <- body <- coarsen/dispersion/solver; io and atomistic at the edges).
+# Sources are globbed so that adding a file to a module needs no edit here.
+set(PDCG_MODULES "" CACHE INTERNAL "pdcg module targets")
+
+function(pdcg_add_module name)
+  cmake_parse_arguments(ARG "" "" "PUBLIC;PRIVATE" ${ARGN})
+  file(GLOB _sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${name}/*.cpp)
+  if(NOT _sources)
+    message(FATAL_ERROR "pdcg_add_module(${name}): no sources in src/${name}/")
+  endif()
+  set(_target pdcg_${name})
+  add_library(${_target} ${_sources})
+  add_library(pdcg::${name} ALIAS ${_target})
+  set_target_properties(${_target} PROPERTIES
+    EXPORT_NAME ${name}
+    OUTPUT_NAME pdcg_${name}
+    VERSION ${PROJECT_VERSION}
+    SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
+  target_compile_features(${_target} PUBLIC cxx_std_20)
+  target_include_directories(${_target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_compile_options(${_target} PRIVATE -Wall -Wextra -Wpedantic)
+  if(ARG_PUBLIC)
+    target_link_libraries(${_target} PUBLIC ${ARG_PUBLIC})
+  endif()
+  if(ARG_PRIVATE)
+    target_link_libraries(${_target} PRIVATE ${ARG_PRIVATE})
+  endif()
+  install(TARGETS ${_target} EXPORT pdcgTargets
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  set(PDCG_MODULES ${PDCG_MODULES} ${_target} CACHE INTERNAL "pdcg module targets")
+endfunction()

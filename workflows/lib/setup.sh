@@ -1,0 +1,58 @@
+# Shared set-up for ./workflows/quickstart.sh and ./tests/run.sh (sourced).
+#
+#   pdcg_install_dependencies   install the missing Debian packages (root), or
+#                               print the exact apt-get line and stop (not root)
+#   pdcg_build                  configure (first time) and build into build/
+#
+# Both are idempotent and fast when nothing changed.
+
+PDCG_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+PDCG_BUILD=${PDCG_BUILD:-$PDCG_ROOT/build}
+
+# Debian 12 packages pdcg needs to build, test and run its workflows.
+PDCG_PACKAGES=(
+  build-essential cmake ninja-build pkg-config git ca-certificates
+  libeigen3-dev libfftw3-dev libhdf5-dev libsuitesparse-dev libyaml-cpp-dev
+  libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev libnanoflann-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  liblammps-dev lammps lammps-data python3-lammps
+  python3 python3-numpy python3-h5py python3-matplotlib
+)
+
+pdcg_missing_packages() {
+  local missing=() p status
+  for p in "${PDCG_PACKAGES[@]}"; do
+    status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+    [[ "$status" == "install ok installed" ]] || missing+=("$p")
+  done
+  echo "${missing[@]}"
+}
+
+pdcg_install_dependencies() {
+  if ! command -v dpkg-query >/dev/null; then
+    echo "pdcg: this script installs Debian packages; on another system install: ${PDCG_PACKAGES[*]}" >&2
+    return 1
+  fi
+  local missing
+  missing=$(pdcg_missing_packages)
+  [ -z "$missing" ] && return 0
+  if [ "$(id -u)" != 0 ]; then
+    echo "pdcg: missing Debian packages. Run as root:" >&2
+    echo "  apt-get update && apt-get install -y --no-install-recommends $missing" >&2
+    return 1
+  fi
+  echo "pdcg: installing missing Debian packages: $missing" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  # shellcheck disable=SC2086
+  apt-get install -y -qq --no-install-recommends $missing >/dev/null
+}
+
+pdcg_build() {
+  local gen=()
+  command -v ninja >/dev/null && gen=(-G Ninja)
+  if [ ! -f "$PDCG_BUILD/CMakeCache.txt" ]; then
+    cmake -S "$PDCG_ROOT" -B "$PDCG_BUILD" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release "$@"
+  fi
+  cmake --build "$PDCG_BUILD" -j"${PDCG_JOBS:-2}"
+}
