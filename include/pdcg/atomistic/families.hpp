@@ -1,0 +1,64 @@
+/// \file
+/// Families (neighbour sets fixed in the reference configuration) in CSR form, built by a
+/// cell list over periodic images of an orthogonal or triclinic box, and the loops that turn
+/// a Potential into PD force states, internal forces and energies.
+///
+/// Bond b of atom k points to atom j = neighbor[b] through the periodic image shift
+/// n_b = shift[3b..3b+3) (integers, in units of the box edge vectors), relative to the
+/// positions as given (wrapped or unwrapped): the reference bond is
+///   ξ_b = x_j − x_k + H n_b,
+/// and in a deformed configuration y with box matrix H_y the bond is Y_b = y_j − y_k + H_y n_b.
+/// reverse[b] is the bond (j → k) with shift −n_b, so f_k = Σ_{b∈k} (t_b − t_reverse[b]).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "pdcg/atomistic/atoms.hpp"
+#include "pdcg/atomistic/potential.hpp"
+
+namespace pdcg::atomistic {
+
+struct Families {
+  std::vector<std::int64_t> offset;  ///< N+1; bonds of k are [offset[k], offset[k+1])
+  std::vector<std::int32_t> neighbor;
+  std::vector<std::int32_t> shift;    ///< 3 per bond: image shift n_b
+  std::vector<double> xi;             ///< 3 per bond: reference bond vector ξ_b
+  std::vector<std::int64_t> reverse;  ///< index of the bond j → k
+  std::vector<double> pair_factor;    ///< per bond, special_bonds factor; empty = all 1
+  std::vector<int> bond_type;         ///< per bond, molecular bond type (0 = none); empty = none
+  Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  ///< reference box matrix (periodic shifts)
+
+  std::size_t points() const { return offset.empty() ? 0 : offset.size() - 1; }
+  std::size_t bonds() const { return neighbor.size(); }
+};
+
+struct FamilyOptions {
+  double cutoff = 0.0;                  ///< bonds with |ξ| < cutoff
+  const std::vector<Bond>* molecular_bonds = nullptr;  ///< added regardless of length
+  std::array<double, 3> special_lj{1.0, 1.0, 1.0};     ///< pair factor for 1-2, 1-3, 1-4 partners
+};
+
+/// Builds the families of every atom with a cell list (O(N)); periodic directions of
+/// atoms.box contribute as many image shells as the cutoff needs (boxes smaller than the
+/// cutoff work). Families are sorted by (neighbour, shift). Throws InputError for a
+/// non-positive cutoff or a molecular bond naming an unknown atom id.
+Families build_families(const Atoms& atoms, const FamilyOptions& options);
+
+/// Y_b = y_j − y_k + H_y n_b for every bond (y: 3N deformed positions in the same convention
+/// as the reference positions; h_deformed: deformed box matrix, F·H for a homogeneous F).
+void deformed_bonds(const Families& families, std::span<const double> y,
+                    const Eigen::Matrix3d& h_deformed, std::span<double> bond_out);
+
+/// ψ_k for every atom and t_b for every bond (OpenMP over atoms). Returns Σ_k ψ_k.
+double force_states(const Potential& potential, const Families& families,
+                    std::span<const int> type, std::span<const double> bonds,
+                    std::span<double> psi_out, std::span<double> t_out);
+
+/// f_k = Σ_{b∈k} (t_b − t_reverse[b]) (OpenMP over atoms, gather: no races).
+void pd_forces(const Families& families, std::span<const double> t, std::span<double> f_out);
+
+}  // namespace pdcg::atomistic

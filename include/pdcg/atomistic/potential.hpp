@@ -1,0 +1,84 @@
+/// \file
+/// Interatomic potentials as peridynamic constitutive models.
+///
+/// Atom k carries the multibody energy ψ_k(Y⟨ξ_kj⟩, j ∈ family of k) (DESIGN.md §2.1). Its
+/// Fréchet derivative is the force state t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩, and the PD internal force
+/// f_k = Σ_j (t_kj − t_jk) equals the MD force −∂U/∂y_k exactly (U = Σ_k ψ_k).
+///   pair potential φ(r):  ψ_k = ½ Σ_j φ(r_kj),  t_kj = ½ φ'(r) Y/r
+///   EAM:                  ψ_k = F_k(ρ̄_k) + ½ Σ_j φ(r_kj), ρ̄_k = Σ_j f_j(r_kj),
+///                         t_kj = (F_k'(ρ̄_k) f_j'(r) + ½ φ'(r)) Y/r
+///   molecular bonds:      ψ_k += ½ E_bond(r_kj) for each bonded partner j.
+/// Potential::force_state evaluates ψ_k and t_kj for one family; it is the only primitive
+/// bodies, dynamics and dispersion need. It must not allocate (it runs inside OpenMP loops).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pdcg/core/units.hpp"
+
+namespace pdcg::atomistic {
+
+/// One pair_coeff / bond_coeff command as written.
+struct CoeffLine {
+  std::string i, j;               ///< type ranges as written ("1", "*", "2*4"); j empty for bond_coeff
+  std::vector<std::string> args;  ///< remaining words
+  std::string line;               ///< the full command line, verbatim
+  long line_number = 0;           ///< in `source`
+};
+
+/// The LAMMPS commands that define an interaction model, as the user wrote them
+/// (a potential file or the relevant lines of an input deck).
+struct PotentialSpec {
+  std::string source;  ///< file the commands came from (for messages)
+  UnitStyle units = UnitStyle::lj;
+  std::string atom_style = "atomic";
+  /// `mass` commands: type_mass[t] for t = 1..ntypes (index 0 unused), NaN if unset.
+  std::vector<double> type_mass;
+  int ntypes = 0;  ///< number of atom types (from masses/coefficients or the data file)
+  std::string pair_style;  ///< e.g. "lj/cut", "eam/alloy", "zero", "tersoff"; empty = none
+  std::vector<std::string> pair_style_args;
+  std::vector<CoeffLine> pair_coeff;
+  std::vector<std::string> pair_modify;  ///< words of `pair_modify` (e.g. "shift", "yes", "mix", "arithmetic")
+  std::string bond_style;                ///< e.g. "harmonic", "fene"; empty = none
+  std::vector<std::string> bond_style_args;
+  std::vector<CoeffLine> bond_coeff;
+  std::array<double, 3> special_lj{0.0, 0.0, 0.0};    ///< special_bonds lj 1-2, 1-3, 1-4 (LAMMPS default 0 0 0)
+  std::array<double, 3> special_coul{0.0, 0.0, 0.0};  ///< special_bonds coul
+  /// Every accepted command line verbatim, in order: what an HDF5 model stores and what
+  /// embedded LAMMPS replays.
+  std::vector<std::string> lines;
+};
+
+/// One family as a potential sees it. Pointers are borrowed (non-owning), valid for the call.
+struct FamilyState {
+  int type = 0;                         ///< LAMMPS type of the centre atom k (1-based)
+  std::int64_t size = 0;                ///< number of bonds n
+  const int* neighbor_type = nullptr;   ///< n types of the partners j
+  const double* bond = nullptr;         ///< 3n deformed bond vectors Y⟨ξ_kj⟩ = y_j − y_k (interleaved xyz)
+  const double* pair_factor = nullptr;  ///< n special_bonds factors for the pair term; nullptr = all 1
+  const int* bond_type = nullptr;       ///< n molecular bond types (0 = not bonded); nullptr = none
+};
+
+class Potential {
+ public:
+  virtual ~Potential() = default;
+  /// LAMMPS style name, e.g. "lj/cut" or "eam/alloy + bond harmonic".
+  virtual std::string style() const = 0;
+  /// Largest pair distance at which atoms interact: families are built with it. Molecular
+  /// bonds are added to families regardless of their length.
+  virtual double cutoff() const = 0;
+  /// Number of atom types the potential is defined for.
+  virtual int ntypes() const = 0;
+  /// Returns ψ_k and writes t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩ into t[0 .. 3n). Allocates nothing;
+  /// thread-safe (const, called concurrently for different k).
+  virtual double force_state(const FamilyState& family, double* t) const = 0;
+  /// True when ψ_k = ½ Σ_j φ(r_kj) with no many-body term (bond-based PD).
+  virtual bool pairwise() const { return false; }
+};
+
+}  // namespace pdcg::atomistic
