@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The main job of pdcg: from LAMMPS atoms to a peridynamic model, checked against LAMMPS.
+#
+#   ./workflows/quickstart.sh            (as root on Debian 12: installs what is missing)
+#
+# Steps (each prints what it did; results in results/quickstart/):
+#   1. install missing Debian packages, configure and build into build/
+#   2. LAMMPS: a perturbed FCC Lennard-Jones crystal (atomistics/lj_fcc), its forces and energies
+#   3. pdcg: the pipeline stages available in this version (see docs/status.md)
+set -euo pipefail
+source "$(dirname "$0")/lib/setup.sh"
+pdcg_install_dependencies
+pdcg_build > "$PDCG_BUILD/quickstart-build.log" 2>&1 || { tail -40 "$PDCG_BUILD/quickstart-build.log"; exit 1; }
+
+out="$PDCG_ROOT/results/quickstart"
+mkdir -p "$out"
+pdcg="$PDCG_BUILD/pdcg"
+case_dir="$PDCG_ROOT/atomistics/lj_fcc"
+
+echo "== 1. pdcg $("$pdcg" version | head -1 | awk '{print $2}') built in $PDCG_BUILD"
+echo "== 2. LAMMPS: perturbed FCC Lennard-Jones crystal (256 atoms)"
+(cd "$case_dir" && lmp -in in.lj_fcc -var out "$out" -log "$out/lammps.log" -screen none)
+echo "   wrote $out/lj_fcc.data and $out/lj_fcc.dump (LAMMPS forces and per-atom energies)"
+
+if [ -x "$PDCG_ROOT/workflows/quickstart/pipeline.sh" ]; then
+  "$PDCG_ROOT/workflows/quickstart/pipeline.sh" "$pdcg" "$case_dir" "$out"
+else
+  echo "== 3. pdcg versions of the libraries in use:"
+  "$pdcg" version | sed 's/^/   /'
+fi
+echo
+echo "Results are in $out"
