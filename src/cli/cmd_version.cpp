@@ -4,6 +4,7 @@
 #include <fftw3.h>
 #include <fmt/format.h>
 #include <spdlog/version.h>
+#include <omp.h>
 #include <umfpack.h>
 
 #include <cstdio>
@@ -23,7 +24,10 @@ std::string embedded_lammps_version() {
   // The version is a property of a LAMMPS instance; a throw-away one with no
   // log and no screen output costs a few milliseconds.
   const char* args[] = {"pdcg", "-log", "none", "-screen", "none", "-nocite"};
+  // LAMMPS sets the OpenMP thread count to 1 when OMP_NUM_THREADS is unset; restore ours.
+  const int threads = pdcg::omp_max_threads();
   void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
+  omp_set_num_threads(threads);
   if (!lmp) return "unavailable (liblammps failed to start)";
   const int v = ::lammps_version(lmp);
   lammps_close(lmp);
