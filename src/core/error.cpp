@@ -38,29 +38,30 @@ InputError& InputError::fix(std::string_view f) {
   return *this;
 }
 
+// Built with append(): GCC 12 warns falsely (-Wrestrict, GCC bug 105329) on "lit" + string.
 void InputError::compose() {
   std::string m;
   if (!source_.empty()) {
-    m += source_;
-    if (line_ > 0) m += ":" + std::to_string(line_);
-    m += ": ";
+    m.append(source_);
+    if (line_ > 0) m.append(":").append(std::to_string(line_));
+    m.append(": ");
   } else if (line_ > 0) {
-    m += "line " + std::to_string(line_) + ": ";
+    m.append("line ").append(std::to_string(line_)).append(": ");
   }
-  if (!key_.empty()) m += key_ + ": ";
-  m += problem_;
-  if (has_value_) m += ": got '" + value_ + "'";
-  if (!expected_.empty()) m += (has_value_ ? ", expected " : ": expected ") + expected_;
-  m += ".";
-  if (!fix_.empty()) m += " Fix: " + fix_;
+  if (!key_.empty()) m.append(key_).append(": ");
+  m.append(problem_);
+  if (has_value_) m.append(": got '").append(value_).append("'");
+  if (!expected_.empty()) m.append(has_value_ ? ", expected " : ": expected ").append(expected_);
+  m.append(".");
+  if (!fix_.empty()) m.append(" Fix: ").append(fix_);
   message_ = std::move(m);
 }
 
 std::string format_input_warning(std::string_view source, long line, std::string_view message) {
   std::string m(source);
-  if (line > 0) m += ":" + std::to_string(line);
-  if (!m.empty()) m += ": ";
-  m += message;
+  if (line > 0) m.append(":").append(std::to_string(line));
+  if (!m.empty()) m.append(": ");
+  m.append(message);
   return m;
 }
 

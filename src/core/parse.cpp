@@ -86,7 +86,7 @@ void set_command_line(int argc, const char* const* argv) {
     if (i) s += ' ';
     std::string_view a(argv[i]);
     if (a.find_first_of(" \t\"'") != std::string_view::npos)
-      s += "'" + std::string(a) + "'";
+      s.append("'").append(a).append("'");
     else
       s += a;
   }
