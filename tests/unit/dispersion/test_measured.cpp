@@ -1,0 +1,129 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "pdcg/core/error.hpp"
+#include "pdcg/dispersion/closed_form.hpp"
+#include "pdcg/dispersion/measured.hpp"
+
+#if PDCG_WITH_LAMMPS
+#include <library.h>
+#include <omp.h>
+#endif
+
+using namespace pdcg::dispersion;
+
+namespace {
+const double kPi = std::numbers::pi;
+}
+
+// A field made of travelling waves at known (κ, ω) pairs: the ridge must find each ω within
+// one frequency bin (the transform's resolution; Hann keeps the peak at the nearest bin).
+TEST(Measured, SyntheticWavesAreFoundWithinOneBin) {
+  const std::size_t N = 32, T = 512;
+  const double h = 1.0, dt = 0.2;
+  std::vector<double> u(T * N, 0.0);
+  auto omega_of = [](double k) { return 1.3 * std::abs(std::sin(0.5 * k)) + 0.05; };
+  for (std::size_t m = 1; m <= N / 2; ++m) {
+    const double k = 2 * kPi * static_cast<double>(m) / (static_cast<double>(N) * h);
+    const double w = omega_of(k);
+    const double dir = (m % 2) ? 1.0 : -1.0;  // waves in both directions
+    for (std::size_t t = 0; t < T; ++t)
+      for (std::size_t n = 0; n < N; ++n)
+        u[t * N + n] += std::cos(k * static_cast<double>(n) * h - dir * w * static_cast<double>(t) * dt + 0.3 * m);
+  }
+  const Spectrum s = space_time_spectrum(u, T, N, h, dt);
+  EXPECT_NEAR(s.resolution, 2 * kPi / (T * dt), 1e-15);
+  const auto r = ridge(s);
+  ASSERT_EQ(r.size(), N / 2);
+  for (const auto& p : r) EXPECT_LE(std::abs(p.omega - omega_of(p.kappa)), p.resolution) << "κ = " << p.kappa;
+}
+
+TEST(Measured, BadInputIsExplained) {
+  std::vector<double> u(3 * 8, 0.0);
+  EXPECT_THROW(space_time_spectrum(u, 3, 8, 1.0, 0.1), pdcg::InputError);  // too few frames
+  std::vector<double> v(64 * 8, 0.0);
+  try {
+    space_time_spectrum(v, 64, 8, 1.0, 0.1, Window::hann, 0.01);  // needs 2π/(0.01·0.1) frames
+    FAIL();
+  } catch (const pdcg::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 6284 frames"), std::string::npos) << e.what();
+  }
+}
+
+#if PDCG_WITH_LAMMPS
+namespace {
+/// Runs LAMMPS MD of a periodic 1D chain (bond_style harmonic to the nearest and, when
+/// mu2 > 0, next-nearest neighbours; motion only along x) and returns the displacement
+/// samples (frames × sites).
+std::vector<double> lammps_chain(std::size_t N, double mu1, double mu2, double dt, int every,
+                                 std::size_t frames) {
+  const int threads = omp_get_max_threads();
+  const char* args[] = {"test", "-log", "none", "-screen", "none", "-nocite"};
+  void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
+  omp_set_num_threads(threads);
+  const std::string n = std::to_string(N);
+  // LAMMPS bond harmonic: E = K (r − r0)², so K = μ/2 for a spring of stiffness μ.
+  const std::string script =
+      "units lj\natom_style bond\nboundary p f f\nlattice sc 1.0\n"
+      "region box block 0 " + n + " -0.5 0.5 -0.5 0.5\n"
+      "create_box 1 box bond/types 2 extra/bond/per/atom 4 extra/special/per/atom 8\n"
+      "create_atoms 1 box\nmass 1 1.0\n"
+      "pair_style zero 2.5\npair_coeff * *\n"
+      "bond_style harmonic\n"
+      "bond_coeff 1 " + std::to_string(mu1 / 2) + " 1.0\n"
+      "bond_coeff 2 " + std::to_string(mu2 / 2) + " 2.0\n"
+      "special_bonds lj/coul 0.0 1.0 1.0\n"
+      "create_bonds many all all 1 0.9 1.1\n" +
+      std::string(mu2 > 0 ? "create_bonds many all all 2 1.9 2.1\n" : "") +
+      "velocity all create 0.01 4928459 dist gaussian\n"
+      "velocity all set NULL 0.0 0.0\nvelocity all zero linear\n"
+      "fix 1 all nve\nfix 2 all setforce NULL 0.0 0.0\n"
+      "timestep " + std::to_string(dt) + "\nthermo 0\nrun 0\n";
+  lammps_commands_string(lmp, script.c_str());
+  std::vector<double> x0(3 * N), x(3 * N), u(frames * N);
+  lammps_gather_atoms(lmp, const_cast<char*>("x"), 1, 3, x0.data());
+  const std::string run = "run " + std::to_string(every) + " pre no post no";
+  const double L = static_cast<double>(N);
+  for (std::size_t t = 0; t < frames; ++t) {
+    lammps_command(lmp, run.c_str());
+    lammps_gather_atoms(lmp, const_cast<char*>("x"), 1, 3, x.data());
+    for (std::size_t i = 0; i < N; ++i) {
+      double d = x[3 * i] - x0[3 * i];
+      d -= L * std::round(d / L);  // minimum image along the periodic x
+      u[t * N + i] = d;
+    }
+  }
+  lammps_close(lmp);
+  return u;
+}
+}  // namespace
+
+// Acceptance (issue 5): an MD trajectory of a 1D chain produced by LAMMPS gives ridge
+// frequencies within one frequency-resolution bin of the closed form for every κ.
+TEST(MeasuredLammps, NearestNeighbourChainRidgeMatchesClosedForm) {
+  const std::size_t N = 32, T = 1024;
+  const double dt = 0.01;
+  const int every = 10;
+  const auto u = lammps_chain(N, 1.0, 0.0, dt, every, T);
+  const auto r = ridge(space_time_spectrum(u, T, N, 1.0, dt * every));
+  const std::vector<double> mu{1.0};
+  for (const auto& p : r)
+    EXPECT_LE(std::abs(p.omega - chain_omega(p.kappa, 1.0, 1.0, mu)), p.resolution) << "κ = " << p.kappa;
+}
+
+TEST(MeasuredLammps, NextNearestChainRidgeMatchesClosedForm) {
+  const std::size_t N = 32, T = 1024;
+  const double dt = 0.01;
+  const int every = 10;
+  const auto u = lammps_chain(N, 1.0, 0.25, dt, every, T);
+  const auto r = ridge(space_time_spectrum(u, T, N, 1.0, dt * every));
+  const std::vector<double> mu{1.0, 0.25};
+  for (const auto& p : r)
+    EXPECT_LE(std::abs(p.omega - chain_omega(p.kappa, 1.0, 1.0, mu)), p.resolution) << "κ = " << p.kappa;
+}
+#endif
