@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -79,6 +80,18 @@ class Potential {
   virtual double force_state(const FamilyState& family, double* t) const = 0;
   /// True when ψ_k = ½ Σ_j φ(r_kj) with no many-body term (bond-based PD).
   virtual bool pairwise() const { return false; }
+
+  /// Doubles of scratch force_state_tangent needs for a family of n bonds.
+  static std::size_t tangent_workspace(std::int64_t n) { return 9 * static_cast<std::size_t>(n); }
+  /// Second Fréchet derivative of ψ_k (the linearised force state, for dispersion and
+  /// Cauchy–Born tangents):
+  ///   K[(j·n + m)·9 + 3a + b] = ∂t_kj,a / ∂Y⟨ξ_km⟩_b   (n² blocks of 3×3, row-major).
+  /// Pairwise potentials have only the blocks j = m:
+  ///   ½[φ''(r) e⊗e + φ'(r)/r (I − e⊗e)],  e = Y/r.
+  /// The default differentiates force_state by central differences (step s = 6e-6·max(1,|Y|):
+  /// truncation O(s²) and round-off O(ε/s) both ≈ 1e-11 relative); native styles override it
+  /// analytically. `workspace` holds tangent_workspace(n) doubles. Allocates nothing.
+  virtual void force_state_tangent(const FamilyState& family, double* K, double* workspace) const;
 };
 
 }  // namespace pdcg::atomistic
