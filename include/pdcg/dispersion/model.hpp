@@ -1,0 +1,74 @@
+/// \file
+/// Dispersion of a PD model linearised about its reference configuration (DESIGN.md §2.5).
+///
+/// A plane wave u(x) = a e^{iκ·x} deforms bond b of atom k by Y_b = a_{j_b} e^{iκ·ξ_b} − a_k
+/// (times e^{iκ·x_k}). With K_bc = ∂t_b/∂Y_c (Potential::force_state_tangent) the energy of the
+/// wave is ½ Σ_k Σ_bc Y_b* K_bc Y_c, so
+///
+/// * at one point of a Bravais-lattice body, where every atom moves with the same a
+///   (delta body of a perfect lattice; its homogenised and rescaled bodies, point by point):
+///     D_p(κ) = Σ_k w_k Σ_{b,c∈H_k} (e^{iκ·ξ_b} − 1)* K_bc (e^{iκ·ξ_c} − 1),  M_p = Σ_k w_k M_k,
+///     ω²(κ) = eig(D_p / M_p)  (3 branches);
+/// * for a periodic cell with a basis (all atoms of a periodic body, any κ; folded bands),
+///     D(κ) = Σ_k Σ_bc B_b^H K_bc B_c,  B_b a = a_{j_b} e^{iκ·ξ_b} − a_k,
+///     ω² = eig(M^{−½} D M^{−½})  (3N branches).
+/// For a 1D chain with springs μ_n this gives ω² = (2/M) Σ μ_n (1 − cos nκh) exactly, and for a
+/// body rescaled by ε it gives ω_ε(κ) = ω(εκ)/ε (§2.4) because K_ε = ε⁻² K on bonds εξ.
+/// Refs: Born & Huang, Dynamical Theory of Crystal Lattices (1954), ch. V; Silling, J. Mech.
+/// Phys. Solids 48 (2000) 175 (PD dispersion).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pdcg/atomistic/families.hpp"
+#include "pdcg/atomistic/potential.hpp"
+
+namespace pdcg::dispersion {
+
+/// Linearised families of a set of atoms, evaluated once at the reference bonds.
+class LinearisedFamilies {
+ public:
+  /// atoms: indices into the families to linearise (all atoms if empty).
+  LinearisedFamilies(const atomistic::Potential& potential, const atomistic::Families& families,
+                     std::span<const int> type, std::span<const std::int32_t> atoms = {});
+  const atomistic::Families& families() const { return *families_; }
+  /// K blocks of atom k (n_k² · 9 doubles), or an empty span if k was not linearised.
+  std::span<const double> tangent(std::size_t k) const;
+
+ private:
+  const atomistic::Families* families_;
+  std::vector<std::int64_t> start_;  ///< per atom: start in k_ (−1 if absent)
+  std::vector<double> k_;
+};
+
+/// ω(κ) at one point made of weighted atoms (Bravais lattice assumption, see above).
+/// Returns the 3 frequencies in ascending order; a negative ω² (unstable mode) is returned as −√|ω²|.
+Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::pair<std::int32_t, double>> atoms,
+                            std::span<const double> mass, const Eigen::Vector3d& kappa);
+
+/// ω(κ) of a periodic cell with a basis: all 3N branches, ascending (same sign convention).
+Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa);
+
+/// A named high-symmetry point, in Cartesian reciprocal coordinates (units 1/length).
+struct SymmetryPoint {
+  std::string label;
+  Eigen::Vector3d kappa;
+};
+
+/// High-symmetry points of a lattice ("fcc", "bcc", "sc", "hex" (2D triangular, in the xy
+/// plane), "chain" (along x)) with lattice constant a (cubic: conventional cube edge; hex and
+/// chain: nearest-neighbour spacing). Throws InputError for an unknown lattice.
+std::vector<SymmetryPoint> symmetry_points(const std::string& lattice, double a);
+
+/// Points along a path "G-X-K-G-L" (labels as in symmetry_points; G = Γ), nk per segment.
+/// Returns κ and the cumulative path length. Throws InputError naming an unknown label and
+/// listing the valid ones.
+std::vector<std::pair<double, Eigen::Vector3d>> path(const std::string& lattice, double a,
+                                                     const std::string& labels, int nk_per_segment);
+
+}  // namespace pdcg::dispersion

@@ -1,0 +1,203 @@
+#include "pdcg/dispersion/model.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <sstream>
+
+#include "pdcg/core/error.hpp"
+
+namespace pdcg::dispersion {
+
+using cd = std::complex<double>;
+
+LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential, const atomistic::Families& fam,
+                                       std::span<const int> type, std::span<const std::int32_t> atoms)
+    : families_(&fam) {
+  const std::size_t n = fam.points();
+  start_.assign(n, -1);
+  std::vector<std::int32_t> list(atoms.begin(), atoms.end());
+  if (list.empty())
+    for (std::size_t k = 0; k < n; ++k) list.push_back(static_cast<std::int32_t>(k));
+  std::int64_t total = 0;
+  for (auto k : list) {
+    const auto kk = static_cast<std::size_t>(k);
+    if (start_[kk] >= 0) continue;
+    start_[kk] = total;
+    const std::int64_t nb = fam.offset[kk + 1] - fam.offset[kk];
+    total += nb * nb * 9;
+  }
+  k_.assign(static_cast<std::size_t>(total), 0.0);
+  std::vector<int> ntype(fam.bonds());
+  for (std::size_t b = 0; b < fam.bonds(); ++b) ntype[b] = type[static_cast<std::size_t>(fam.neighbor[b])];
+  std::int64_t max_nb = 0;
+  for (std::size_t k = 0; k < n; ++k) max_nb = std::max(max_nb, fam.offset[k + 1] - fam.offset[k]);
+  std::vector<double> work(atomistic::Potential::tangent_workspace(max_nb));
+  for (std::size_t k = 0; k < n; ++k) {
+    if (start_[k] < 0) continue;
+    const auto b0 = static_cast<std::size_t>(fam.offset[k]);
+    atomistic::FamilyState f;
+    f.type = type[k];
+    f.size = fam.offset[k + 1] - fam.offset[k];
+    f.neighbor_type = ntype.data() + b0;
+    f.bond = fam.xi.data() + 3 * b0;
+    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    potential.force_state_tangent(f, k_.data() + start_[k], work.data());
+  }
+}
+
+std::span<const double> LinearisedFamilies::tangent(std::size_t k) const {
+  if (start_[k] < 0) return {};
+  const std::int64_t nb = families_->offset[k + 1] - families_->offset[k];
+  return {k_.data() + start_[k], static_cast<std::size_t>(nb * nb * 9)};
+}
+
+namespace {
+
+double signed_sqrt(double w2) { return w2 >= 0 ? std::sqrt(w2) : -std::sqrt(-w2); }
+
+Eigen::Matrix3d block(std::span<const double> K, std::int64_t n, std::int64_t b, std::int64_t c) {
+  Eigen::Matrix3d m;
+  const double* p = K.data() + (b * n + c) * 9;
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d < 3; ++d) m(a, d) = p[3 * a + d];
+  return m;
+}
+
+}  // namespace
+
+Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::pair<std::int32_t, double>> atoms,
+                            std::span<const double> mass, const Eigen::Vector3d& kappa) {
+  const auto& fam = lin.families();
+  Eigen::Matrix3cd D = Eigen::Matrix3cd::Zero();
+  double M = 0.0;
+  for (const auto& [k, w] : atoms) {
+    const auto kk = static_cast<std::size_t>(k);
+    const auto K = lin.tangent(kk);
+    if (K.empty()) throw Error("point_omega: atom was not linearised");
+    const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
+    const auto b0 = static_cast<std::size_t>(fam.offset[kk]);
+    std::vector<cd> phase(static_cast<std::size_t>(n));
+    for (std::int64_t b = 0; b < n; ++b) {
+      const double* xi = fam.xi.data() + 3 * (b0 + static_cast<std::size_t>(b));
+      const double arg = kappa[0] * xi[0] + kappa[1] * xi[1] + kappa[2] * xi[2];
+      phase[static_cast<std::size_t>(b)] = cd(std::cos(arg) - 1.0, std::sin(arg));
+    }
+    for (std::int64_t b = 0; b < n; ++b)
+      for (std::int64_t c = 0; c < n; ++c) {
+        const double* p = K.data() + (b * n + c) * 9;
+        bool zero = true;
+        for (int i = 0; i < 9 && zero; ++i) zero = p[i] == 0.0;
+        if (zero) continue;
+        D += w * std::conj(phase[static_cast<std::size_t>(b)]) * phase[static_cast<std::size_t>(c)] *
+             block(K, n, b, c).cast<cd>();
+      }
+    M += w * mass[kk];
+  }
+  // D is Hermitian up to round-off; symmetrise before the eigen solve.
+  const Eigen::Matrix3cd H = 0.5 * (D + D.adjoint()) / M;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3cd> es(H, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d w2 = es.eigenvalues();
+  return {signed_sqrt(w2[0]), signed_sqrt(w2[1]), signed_sqrt(w2[2])};
+}
+
+Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa) {
+  const auto& fam = lin.families();
+  const auto N = static_cast<Eigen::Index>(fam.points());
+  Eigen::MatrixXcd D = Eigen::MatrixXcd::Zero(3 * N, 3 * N);
+  for (Eigen::Index k = 0; k < N; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const auto K = lin.tangent(kk);
+    if (K.empty()) throw Error("cell_omega: every atom must be linearised");
+    const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
+    const auto b0 = static_cast<std::size_t>(fam.offset[kk]);
+    for (std::int64_t b = 0; b < n; ++b) {
+      const std::size_t bb = b0 + static_cast<std::size_t>(b);
+      const double* xb = fam.xi.data() + 3 * bb;
+      const cd eb = std::polar(1.0, kappa[0] * xb[0] + kappa[1] * xb[1] + kappa[2] * xb[2]);
+      const Eigen::Index jb = fam.neighbor[bb];
+      for (std::int64_t c = 0; c < n; ++c) {
+        const Eigen::Matrix3cd Kbc = block(K, n, b, c).cast<cd>();
+        if (Kbc.isZero(0.0)) continue;
+        const std::size_t cc = b0 + static_cast<std::size_t>(c);
+        const double* xc = fam.xi.data() + 3 * cc;
+        const cd ec = std::polar(1.0, kappa[0] * xc[0] + kappa[1] * xc[1] + kappa[2] * xc[2]);
+        const Eigen::Index jc = fam.neighbor[cc];
+        // B_b^H K B_c with B_b a = a_jb e_b − a_k
+        D.block<3, 3>(3 * jb, 3 * jc) += std::conj(eb) * ec * Kbc;
+        D.block<3, 3>(3 * jb, 3 * k) -= std::conj(eb) * Kbc;
+        D.block<3, 3>(3 * k, 3 * jc) -= ec * Kbc;
+        D.block<3, 3>(3 * k, 3 * k) += Kbc;
+      }
+    }
+  }
+  for (Eigen::Index p = 0; p < N; ++p)
+    for (Eigen::Index q = 0; q < N; ++q)
+      D.block<3, 3>(3 * p, 3 * q) /= std::sqrt(mass[static_cast<std::size_t>(p)] * mass[static_cast<std::size_t>(q)]);
+  const Eigen::MatrixXcd H = 0.5 * (D + D.adjoint());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> es(H, Eigen::EigenvaluesOnly);
+  Eigen::VectorXd w(3 * N);
+  for (Eigen::Index i = 0; i < 3 * N; ++i) w[i] = signed_sqrt(es.eigenvalues()[i]);
+  return w;
+}
+
+std::vector<SymmetryPoint> symmetry_points(const std::string& lattice, double a) {
+  const double u = 2.0 * std::numbers::pi / a;
+  using V = Eigen::Vector3d;
+  if (lattice == "fcc")
+    return {{"G", V(0, 0, 0)}, {"X", u * V(1, 0, 0)}, {"L", u * V(0.5, 0.5, 0.5)},
+            {"K", u * V(0.75, 0.75, 0)}, {"W", u * V(1, 0.5, 0)}, {"U", u * V(1, 0.25, 0.25)}};
+  if (lattice == "bcc")
+    return {{"G", V(0, 0, 0)}, {"H", u * V(1, 0, 0)}, {"N", u * V(0.5, 0.5, 0)}, {"P", u * V(0.5, 0.5, 0.5)}};
+  if (lattice == "sc")
+    return {{"G", V(0, 0, 0)}, {"X", u * V(0.5, 0, 0)}, {"M", u * V(0.5, 0.5, 0)}, {"R", u * V(0.5, 0.5, 0.5)}};
+  if (lattice == "hex")  // triangular lattice a1 = a(1,0), a2 = a(1/2, √3/2)
+    return {{"G", V(0, 0, 0)}, {"M", u * V(0, 1.0 / std::sqrt(3.0), 0)}, {"K", u * V(2.0 / 3.0, 0, 0)}};
+  if (lattice == "chain") return {{"G", V(0, 0, 0)}, {"X", u * V(0.5, 0, 0)}};
+  throw InputError("unknown lattice")
+      .key("--lattice")
+      .value(lattice)
+      .expected("one of fcc, bcc, sc, hex, chain")
+      .fix("name the Bravais lattice of the body");
+}
+
+std::vector<std::pair<double, Eigen::Vector3d>> path(const std::string& lattice, double a,
+                                                     const std::string& labels, int nk) {
+  const auto points = symmetry_points(lattice, a);
+  std::vector<Eigen::Vector3d> corners;
+  std::stringstream ss(labels);
+  std::string label;
+  while (std::getline(ss, label, '-')) {
+    if (label == "Γ") label = "G";
+    auto it = std::find_if(points.begin(), points.end(), [&](const SymmetryPoint& p) { return p.label == label; });
+    if (it == points.end()) {
+      std::string valid;
+      for (const auto& p : points) valid += (valid.empty() ? "" : ", ") + p.label;
+      throw InputError("path label unknown for this lattice")
+          .key("--path")
+          .value(label)
+          .expected("one of " + valid + " for lattice " + lattice)
+          .fix("write the path as labels joined by '-', e.g. G-X-L-G");
+    }
+    corners.push_back(it->kappa);
+  }
+  if (corners.size() < 2 || nk < 1)
+    throw InputError("a path needs at least two points").key("--path").value(labels).expected("e.g. G-X");
+  std::vector<std::pair<double, Eigen::Vector3d>> out;
+  double s = 0.0;
+  out.emplace_back(0.0, corners[0]);
+  for (std::size_t seg = 0; seg + 1 < corners.size(); ++seg) {
+    const Eigen::Vector3d d = corners[seg + 1] - corners[seg];
+    for (int i = 1; i <= nk; ++i) {
+      const Eigen::Vector3d k = corners[seg] + d * (static_cast<double>(i) / nk);
+      out.emplace_back(s + d.norm() * i / nk, k);
+    }
+    s += d.norm();
+  }
+  return out;
+}
+
+}  // namespace pdcg::dispersion
