@@ -421,6 +421,7 @@ DataFile Parser::run() {
   std::string_view line;
   if (!r_.next(line)) fail(1, "empty data file", {}, "a title line, a header and sections", {});
   out_.title = std::string(trim(line));
+  out_.compressed = src_->compressed();
   std::string_view section, comment;
   bool more = false;
   header(section, comment, more);

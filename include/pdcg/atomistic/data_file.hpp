@@ -58,6 +58,7 @@ struct DataFile {
   std::map<std::string, std::int64_t> counts;   ///< header counts by keyword ("atoms", "bond types", ...)
   std::vector<std::string> sections;            ///< section keywords in file order
   std::vector<std::string> columns;             ///< Atoms columns (incl. ix iy iz if present)
+  bool compressed = false;                      ///< the file was gzip-compressed
 };
 
 /// Reads a data file. `hint` is used when the Atoms section has no style
