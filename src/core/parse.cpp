@@ -73,6 +73,59 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
+std::vector<std::size_t> FrameRange::indices() const {
+  std::vector<std::size_t> out;
+  for (std::size_t i = first; i <= last; i += stride) out.push_back(i);
+  return out;
+}
+
+FrameRange parse_frame_range(std::string_view text, std::size_t nframes, std::string_view option) {
+  const std::string valid = nframes == 0 ? std::string("none (the file has no frames)")
+                                         : "frames 0 to " + std::to_string(nframes - 1);
+  auto fail = [&](const std::string& problem) {
+    return InputError(problem)
+        .key(option)
+        .value(text)
+        .expected("N or A:B[:S] within " + valid)
+        .fix("e.g. 0:-1 for all frames, 10:99:2 for every second frame from 10 to 99");
+  };
+  std::vector<std::string_view> parts;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= text.size(); ++i)
+    if (i == text.size() || text[i] == ':') {
+      parts.push_back(text.substr(start, i - start));
+      start = i + 1;
+    }
+  if (parts.empty() || parts.size() > 3) throw fail("malformed frame selection");
+  const TextLocation at{"", 0, option};
+  auto resolve = [&](std::string_view p) -> std::size_t {
+    std::int64_t v = 0;
+    try {
+      v = parse_int(trim(p), at);
+    } catch (const InputError&) {
+      throw fail("frame index is not an integer");
+    }
+    if (v < 0) v += static_cast<std::int64_t>(nframes);
+    if (v < 0 || v >= static_cast<std::int64_t>(nframes)) throw fail("frame index out of range");
+    return static_cast<std::size_t>(v);
+  };
+  FrameRange r;
+  r.first = resolve(parts[0]);
+  r.last = parts.size() >= 2 ? resolve(parts[1]) : r.first;
+  if (parts.size() == 3) {
+    std::int64_t s = 0;
+    try {
+      s = parse_int(trim(parts[2]), at);
+    } catch (const InputError&) {
+      throw fail("stride is not an integer");
+    }
+    if (s < 1) throw fail("stride must be at least 1");
+    r.stride = static_cast<std::size_t>(s);
+  }
+  if (r.last < r.first) throw fail("last frame before first frame");
+  return r;
+}
+
 namespace {
 std::string& command_line_storage() {
   static std::string s;

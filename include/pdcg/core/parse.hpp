@@ -29,6 +29,16 @@ void split_blanks(std::string_view line, std::vector<std::string_view>& out);
 /// Strips leading/trailing blanks.
 std::string_view trim(std::string_view s);
 
+/// A selection of frames "A:B[:S]": A, A+S, … up to and including B (0-based), or "N" for
+/// one frame. Negative A or B count from the end (−1 = last frame).
+struct FrameRange {
+  std::size_t first = 0, last = 0, stride = 1;
+  std::vector<std::size_t> indices() const;
+};
+/// Parses and checks a selection against the number of frames; throws InputError naming
+/// `option`, the text and the valid range.
+FrameRange parse_frame_range(std::string_view text, std::size_t nframes, std::string_view option);
+
 /// The process command line, recorded by the CLI and written into every file.
 void set_command_line(int argc, const char* const* argv);
 const std::string& command_line();

@@ -75,3 +75,18 @@ TEST(TestHelper, AllCloseReportsWorstEntry) {
   EXPECT_TRUE(test::all_close(a, e, {0.11, 0.0}));
   EXPECT_DOUBLE_EQ(test::max_norm_relative_error(a, e), 0.1 / 3.0);
 }
+
+TEST(Parse, FrameRanges) {
+  EXPECT_EQ(parse_frame_range("3", 10, "--frame").indices(), (std::vector<std::size_t>{3}));
+  EXPECT_EQ(parse_frame_range("2:8:3", 10, "--frames").indices(), (std::vector<std::size_t>{2, 5, 8}));
+  EXPECT_EQ(parse_frame_range("0:-1", 4, "--frames").indices(), (std::vector<std::size_t>{0, 1, 2, 3}));
+  for (const char* bad : {"10", "0:10", "5:2", "1:3:0", "a:b", "1:2:3:4", "-11"}) {
+    try {
+      parse_frame_range(bad, 10, "--frames");
+      FAIL() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("frames 0 to 9"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + bad + "'"), std::string::npos) << e.what();
+    }
+  }
+}
