@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Issue 2: PDCG_ENABLE_LAMMPS=OFF must still build everything that does not need LAMMPS,
+# and `pdcg version` must say LAMMPS is not enabled.
+# Usage: build_without_lammps.sh <source-dir> <scratch-build-dir>
+set -euo pipefail
+src=$1 build=$2
+gen=()
+command -v ninja >/dev/null && gen=(-G Ninja)
+cmake -S "$src" -B "$build" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DPDCG_ENABLE_LAMMPS=OFF \
+      -DPDCG_ENABLE_TESTING=OFF -DPDCG_ENABLE_BENCHMARKS=OFF > "$build.configure.log" 2>&1 \
+  || { tail -30 "$build.configure.log"; exit 1; }
+cmake --build "$build" -j2 > "$build.build.log" 2>&1 || { grep -E 'error|Error' "$build.build.log" | head -30; exit 1; }
+if grep -q 'warning:' "$build.build.log"; then grep 'warning:' "$build.build.log" | head; echo "warnings in our code"; exit 1; fi
+"$build/pdcg" version | grep -q 'LAMMPS .*not enabled'
+echo "build_without_lammps: passed"
