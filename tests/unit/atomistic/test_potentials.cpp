@@ -102,3 +102,75 @@ TEST(PotentialsLJ, BoxSmallerThanTwiceTheCutoff) {
   // 2×2×2 cells of 1.56: 3.12 < 2·2.5, several images of one atom in a family
   compare(kLJ, fcc(2, 2, 2, 1.5599, 0.05, 1, 16));
 }
+
+// ---------------------------------------------------------------------------------------
+// morse
+
+namespace {
+const char* kMorse = R"(
+units metal
+pair_style morse 6.0
+pair_coeff 1 1 0.3429 1.3588 2.866
+pair_coeff 1 2 0.30 1.40 2.75 5.5
+pair_coeff 2 2 0.25 1.30 2.70
+)";
+}  // namespace
+
+TEST(PotentialsMorse, PeriodicTriclinicClusterWithAndWithoutShift) {
+  for (const bool shift : {false, true}) {
+    const std::string cmds = std::string(kMorse) + (shift ? "pair_modify shift yes\n" : "");
+    Atoms a = fcc(4, 4, 4, 3.615, 0.04, 2, 21);
+    compare(cmds, a);
+    make_triclinic(a, 2.0, -1.5, 1.0);
+    compare(cmds, a);
+    compare(cmds, cluster(fcc(5, 5, 5, 3.615, 0.03, 2, 22), 8.0));
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// EAM: funcfl (one and two files: regridding and Z_i Z_j pair term), setfl, Finnis–Sinclair
+
+namespace {
+void compare_eam(const std::string& cmds, double a0, int ntypes, unsigned seed) {
+  Atoms a = fcc(4, 4, 4, a0, 0.03, ntypes, seed);
+  compare(cmds, a);
+  make_triclinic(a, 0.25 * a0 * 4, -0.2 * a0 * 4, 0.15 * a0 * 4);
+  compare(cmds, a);
+  compare(cmds, cluster(fcc(5, 5, 5, a0, 0.03, ntypes, seed + 1), 2.2 * a0));
+}
+}  // namespace
+
+TEST(PotentialsEAM, FuncflCu) { compare_eam("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 3.615, 1, 31); }
+
+TEST(PotentialsEAM, FuncflTwoFilesCuNi) {
+  // different dr and cutoffs: LAMMPS regrids both files (Lagrange) onto the larger spacing
+  compare_eam("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\npair_coeff 2 2 Ni_u3.eam\n", 3.57, 2, 33);
+}
+
+TEST(PotentialsEAM, SetflCuMishin) {
+  compare_eam("units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", 3.615, 1, 35);
+}
+
+TEST(PotentialsEAM, SetflAlCuTwoTypes) {
+  compare_eam("units metal\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Al Cu\n", 3.85, 2, 37);
+}
+
+TEST(PotentialsEAM, FinnisSinclairAlFe) {
+  compare_eam("units metal\npair_style eam/fs\npair_coeff * * AlFe_mm.eam.fs Al Fe\n", 3.9, 2, 39);
+}
+
+TEST(PotentialsEAM, FinnisSinclairAsymmetricDensityTypesMappedToSameElement) {
+  // NiAlH_jea.eam.fs has ρ_NiAl ≠ ρ_AlNi (AlFe_mm and CuZr_mm are symmetric): only this file
+  // tells which element pair feeds which host density
+  compare_eam("units metal\npair_style eam/fs\npair_coeff * * NiAlH_jea.eam.fs Ni Al Ni\n", 3.6, 3, 41);
+}
+
+TEST(PotentialsEAM, MassesComeFromTheFile) {
+  const auto pot = make_potential(read_potential_commands_from_string(
+      "units metal\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Cu Al\n", "x"));
+  const auto m = pot->type_masses();
+  ASSERT_EQ(m.size(), 3u);
+  // the file's header lines for Al and Cu (checked by hand: "13 26.982 …", "29 63.546 …")
+  EXPECT_NEAR(m[1], 63.546, 0.01);
+  EXPECT_NEAR(m[2], 26.982, 0.01);
+}
