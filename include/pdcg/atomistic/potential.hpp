@@ -43,10 +43,12 @@ struct PotentialSpec {
   int ntypes = 0;  ///< number of atom types (from masses/coefficients or the data file)
   std::string pair_style;  ///< e.g. "lj/cut", "eam/alloy", "zero", "tersoff"; empty = none
   std::vector<std::string> pair_style_args;
+  long pair_style_line = 0;  ///< line of the pair_style command in `source` (0 = none)
   std::vector<CoeffLine> pair_coeff;
   std::vector<std::string> pair_modify;  ///< words of `pair_modify` (e.g. "shift", "yes", "mix", "arithmetic")
   std::string bond_style;                ///< e.g. "harmonic", "fene"; empty = none
   std::vector<std::string> bond_style_args;
+  long bond_style_line = 0;  ///< line of the bond_style command in `source` (0 = none)
   std::vector<CoeffLine> bond_coeff;
   std::array<double, 3> special_lj{0.0, 0.0, 0.0};    ///< special_bonds lj 1-2, 1-3, 1-4 (LAMMPS default 0 0 0)
   std::array<double, 3> special_coul{0.0, 0.0, 0.0};  ///< special_bonds coul
@@ -92,6 +94,9 @@ class Potential {
   /// truncation O(s²) and round-off O(ε/s) both ≈ 1e-11 relative); native styles override it
   /// analytically. `workspace` holds tangent_workspace(n) doubles. Allocates nothing.
   virtual void force_state_tangent(const FamilyState& family, double* K, double* workspace) const;
+  /// Masses the potential itself sets per atom type (EAM files carry them; LAMMPS's
+  /// pair_coeff sets them): index t = 1..ntypes, NaN where unset; empty if none.
+  virtual std::vector<double> type_masses() const { return {}; }
 };
 
 }  // namespace pdcg::atomistic
