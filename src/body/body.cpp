@@ -105,6 +105,7 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
     fo.special_lj = spec.special_lj;
   }
   body.families = atomistic::build_families(atoms, fo);
+  body.base_horizon = fo.cutoff;
   body.potential = potential;
   body.base_potential = potential;
   body.potential_spec = std::move(spec);

@@ -60,7 +60,8 @@ void write_body(const Body& b, const std::filesystem::path& path) {
   if (!f.bond_type.empty()) w.write("families/bond_type", to64(f.bond_type));
   const Eigen::Matrix3d h = f.h.transpose();  // row-major storage of H
   w.write("families/h", std::span<const double>(h.data(), 9), {3, 3});
-  w.attribute("/families", "horizon", b.potential ? b.potential->cutoff() : 0.0);
+  w.attribute("/families", "base_horizon", b.base_horizon);
+  w.attribute("/families", "horizon", b.horizon());
   // potential
   const auto& s = b.potential_spec;
   w.write_strings("potential/lines", s.lines.empty() ? std::vector<std::string>{""} : s.lines);
@@ -174,6 +175,7 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   const auto hv = r.read_double("families/h");
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) f.h(i, j) = hv[static_cast<std::size_t>(3 * i + j)];
+  b.base_horizon = r.attribute_double("/families", "base_horizon");
   const std::size_t nb = f.neighbor.size();
   if (f.offset.size() != n + 1 || static_cast<std::size_t>(f.offset.back()) != nb || f.shift.size() != 3 * nb ||
       f.xi.size() != 3 * nb || f.reverse.size() != nb)

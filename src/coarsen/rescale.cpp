@@ -25,8 +25,8 @@ double epsilon_for_horizon(const body::Body& b, double horizon) {
         .key("horizon")
         .value(fmt::format("{}", horizon))
         .expected("a positive length")
-        .fix(fmt::format("the body's horizon is {}; give a larger one to coarsen", b.potential->cutoff()));
-  return horizon / b.potential->cutoff();
+        .fix(fmt::format("the body's horizon is {}; give a larger one to coarsen", b.horizon()));
+  return horizon / b.horizon();
 }
 
 body::Body rescale(const body::Body& in, double eps) {
@@ -44,7 +44,7 @@ body::Body rescale(const body::Body& in, double eps) {
   for (auto& v : b.families.xi) v *= eps;
   b.families.h *= eps;
   b.epsilon = in.epsilon * eps;
-  b.potential = body::rescaled_potential(b.base_potential, b.epsilon, d);
+  if (b.base_potential) b.potential = body::rescaled_potential(b.base_potential, b.epsilon, d);
   if (b.statistics) {
     for (auto& c : b.statistics->covariance) c *= eps * eps;
     for (auto& f : b.statistics->frames)
@@ -61,7 +61,7 @@ body::Body rescale(const body::Body& in, double eps) {
   }
   b.kind = body::BodyKind::rescaled;
   b.provenance.push_back(fmt::format("rescaled by ε = {} (total ε = {}), horizon {} → {}", eps, b.epsilon,
-                                     in.potential->cutoff(), b.potential->cutoff()));
+                                     in.horizon(), b.horizon()));
   return b;
 }
 

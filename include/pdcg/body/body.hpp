@@ -107,6 +107,10 @@ struct Body {
   std::vector<EmbeddedFile> potential_files;
 
   double epsilon = 1.0;  ///< rescaling factor ε = δ'/δ applied so far (1 = none)
+  /// Horizon δ of the atomic layer as built (the family cutoff, before rescaling); the current
+  /// horizon is ε·base_horizon.
+  double base_horizon = 0.0;
+  double horizon() const { return epsilon * base_horizon; }
   std::optional<Statistics> statistics;
   std::optional<Homogenisation> homogenisation;
   std::vector<std::string> provenance;  ///< one line per step (input files, commands)
