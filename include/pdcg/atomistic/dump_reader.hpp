@@ -1,0 +1,116 @@
+/// \file
+/// Reader for LAMMPS text dump files (`dump atom`, `dump custom`, plain or
+/// gzip-compressed), https://docs.lammps.org/dump.html.
+///
+/// A frame is
+/// \verbatim
+///   [ITEM: UNITS / ITEM: TIME ...]          (optional, dump_modify units/time)
+///   ITEM: TIMESTEP
+///   <step>
+///   ITEM: NUMBER OF ATOMS
+///   <N>
+///   ITEM: BOX BOUNDS [xy xz yz] <b_x> <b_y> <b_z>     (b = pp, ff, fs, sm, ...)
+///   <xlo_bound> <xhi_bound> [xy]
+///   <ylo_bound> <yhi_bound> [xz]
+///   <zlo_bound> <zhi_bound> [yz]
+///   ITEM: ATOMS <column names>
+///   N lines, one value per column
+/// \endverbatim
+///
+/// The constructor reads the file once and records, for every frame, the byte
+/// offset (uncompressed offset for gzip) and line number of its atom lines
+/// plus its header (timestep, N, box, columns). frame(n) then seeks there and
+/// parses only those N lines: random access without parsing earlier frames.
+/// For gzip, seeking is emulated by zlib (forward decompression, or from the
+/// start when going backwards); reading frames in increasing order stays linear.
+///
+/// Triclinic boxes: a dump stores the bounding box; the box itself is
+/// (Howto_triclinic.html, "Output of the triclinic box")
+///   xlo = xlo_bound − min(0, xy, xz, xy + xz),  xhi = xhi_bound − max(0, xy, xz, xy + xz),
+///   ylo = ylo_bound − min(0, yz),               yhi = yhi_bound − max(0, yz),
+///   zlo = zlo_bound,                            zhi = zhi_bound.
+/// A direction is periodic when its boundary flag is `pp`.
+///
+/// Positions: one complete set of x/y/z-like columns is chosen, in this order:
+///  - `xu yu zu` (unwrapped, Cartesian),
+///  - `x y z` (wrapped), plus `ix iy iz` when present: x ← x + H·image,
+///  - `xsu ysu zsu` (unwrapped, fractional): x = lo + H·s,
+///  - `xs ys zs` (wrapped, fractional), x = lo + H·s, plus image flags as above,
+/// where H = [a b c] is the box matrix of box.hpp. Atoms::x therefore holds
+/// unwrapped positions whenever the dump allows it; the image flags are kept in
+/// Atoms::image when the dump has `ix iy iz`. Position columns of the other
+/// kinds stay available by name in Atoms::extra. A dump without any complete
+/// position set gives an empty Atoms::x.
+///
+/// Other columns: `id`, `type`, `mol` → molecule, `q` → charge, `mass`,
+/// `vx vy vz` → v, `fx fy fz` → f (each vector only when all three are
+/// present), anything else (e.g. `c_pe`, `v_foo`, `f_1[2]`, `proc`) → extra,
+/// by name. The non-numeric `element` column is skipped with a note.
+/// Every frame is sorted by atom id (duplicate ids are an InputError).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pdcg/atomistic/atoms.hpp"
+#include "pdcg/atomistic/box.hpp"
+
+namespace pdcg::atomistic {
+
+/// What the index knows about one frame without parsing its atom lines.
+struct DumpFrameInfo {
+  std::int64_t timestep = 0;
+  std::int64_t natoms = 0;
+  Box box;
+  double time = 0.0;        ///< `ITEM: TIME` value; NaN when the dump has none
+  std::uint64_t offset = 0;  ///< byte offset (uncompressed) of the frame's first ITEM line
+  std::uint64_t atoms_offset = 0;  ///< byte offset of its first atom line
+  long line = 0;             ///< line number of the frame's first ITEM line
+  long atoms_line = 0;       ///< line number of its first atom line
+  std::size_t column_set = 0;  ///< index into DumpReader::column_sets()
+};
+
+class DumpReader {
+ public:
+  /// Opens and indexes `path` (plain text or gzip, detected from the content).
+  /// Throws InputError for anything malformed in a frame header, a truncated
+  /// frame (fewer atom lines than `ITEM: NUMBER OF ATOMS` says), or a missing
+  /// `ITEM:` section, naming the file and line.
+  explicit DumpReader(const std::string& path);
+  ~DumpReader();
+  DumpReader(DumpReader&&) noexcept;
+  DumpReader& operator=(DumpReader&&) noexcept;
+
+  const std::string& path() const;
+  bool compressed() const;
+  std::size_t nframes() const;
+  /// Column names of frame 0 (`ITEM: ATOMS ...`).
+  const std::vector<std::string>& columns() const;
+  /// Column names of frame n (a dump may change its columns between frames).
+  const std::vector<std::string>& columns(std::size_t n) const;
+  const std::vector<std::vector<std::string>>& column_sets() const;
+  const DumpFrameInfo& info(std::size_t n) const;
+  /// `ITEM: UNITS` value if the dump has one, else empty.
+  const std::string& units() const;
+
+  /// Parses frame n (0-based) into Atoms sorted by id. Throws InputError on a
+  /// bad value (non-numeric, NaN/Inf, too few or too many values on a line,
+  /// duplicate atom id), naming file and line. Not thread-safe with respect to
+  /// concurrent calls on the same reader (it serialises them internally).
+  Atoms frame(std::size_t n) const;
+  /// The last frame.
+  Atoms last() const { return frame(nframes() - 1); }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Kind of a LAMMPS atom file, told from its content (a dump starts with `ITEM:`).
+enum class AtomFileKind { dump, data };
+/// Throws InputError when the file cannot be opened.
+AtomFileKind detect_atom_file_kind(const std::string& path);
+
+}  // namespace pdcg::atomistic
