@@ -1,0 +1,235 @@
+#include "pdcg/body/body.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "pdcg/core/error.hpp"
+#include "statistics_impl.hpp"
+
+namespace pdcg::body {
+
+std::string_view to_string(BodyKind kind) {
+  switch (kind) {
+    case BodyKind::delta: return "delta";
+    case BodyKind::statistical: return "statistical";
+    case BodyKind::homogenised: return "homogenised";
+    case BodyKind::rescaled: return "rescaled";
+  }
+  return "delta";
+}
+
+BodyKind parse_body_kind(std::string_view name, std::string_view where) {
+  if (name == "delta") return BodyKind::delta;
+  if (name == "statistical") return BodyKind::statistical;
+  if (name == "homogenised" || name == "homogenized") return BodyKind::homogenised;
+  if (name == "rescaled") return BodyKind::rescaled;
+  throw InputError("unknown body kind")
+      .source(where)
+      .key("kind")
+      .value(name)
+      .expected("one of delta, statistical, homogenised, rescaled")
+      .fix("the file was not written by a compatible pdcg");
+}
+
+double Body::reference_volume() const {
+  const Eigen::Matrix3d H = box.h();
+  switch (dimension) {
+    case 1: return H.col(0).norm();
+    case 2: return H.col(0).cross(H.col(1)).norm();
+    default: return std::abs(H.determinant());
+  }
+}
+
+Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const atomistic::Potential> potential,
+                     atomistic::PotentialSpec spec, const DeltaBodyOptions& options) {
+  if (!potential) throw InputError("no potential given").key("potential").fix("give a potential file");
+  if (options.dimension < 1 || options.dimension > 3)
+    throw InputError("body dimension out of range")
+        .key("dimension")
+        .value(std::to_string(options.dimension))
+        .expected("1, 2 or 3");
+  if (atoms_in.size() == 0)
+    throw InputError("the configuration has no atoms").source(options.source).fix("check the input file");
+  atomistic::Atoms atoms = atoms_in;
+  atomistic::sort_by_id(atoms, options.source);
+  if (atoms.type.empty())
+    throw InputError("the configuration has no atom types")
+        .source(options.source)
+        .key("type")
+        .expected("a `type` column (dump) or the Atoms section of a data file")
+        .fix("dump with `dump ... custom ... id type x y z`");
+  // Masses: the configuration's own, else the potential file's `mass` commands.
+  if (atoms.mass.empty()) {
+    if (atoms.type_mass.size() < spec.type_mass.size()) atoms.type_mass.resize(spec.type_mass.size(), NAN);
+    for (std::size_t t = 1; t < spec.type_mass.size(); ++t)
+      if (std::isnan(atoms.type_mass[t])) atoms.type_mass[t] = spec.type_mass[t];
+  }
+  const int ntypes = potential->ntypes();
+  Body body;
+  body.kind = BodyKind::delta;
+  body.units = spec.units;
+  body.dimension = options.dimension;
+  body.box = atoms.box;
+  body.id = atoms.id;
+  body.type = atoms.type;
+  body.x = atoms.x;
+  body.mass.resize(atoms.size());
+  for (std::size_t i = 0; i < atoms.size(); ++i) {
+    const int t = atoms.type[i];
+    if (t < 1 || t > ntypes)
+      throw InputError("atom type is not covered by the potential")
+          .source(options.source)
+          .key("type of atom id " + std::to_string(atoms.id[i]))
+          .value(std::to_string(t))
+          .expected("a type in 1.." + std::to_string(ntypes) + " (the potential " + potential->style() +
+                    " defines " + std::to_string(ntypes) + ")")
+          .fix("use the potential written for this configuration, or add pair_coeff lines for type " +
+               std::to_string(t));
+    const double m = atoms.mass_of(i);
+    if (!(m > 0.0) || !std::isfinite(m))
+      throw InputError("atom has no (positive) mass")
+          .source(options.source)
+          .key("mass of type " + std::to_string(t) + " (atom id " + std::to_string(atoms.id[i]) + ")")
+          .value(std::isnan(m) ? "missing" : std::to_string(m))
+          .expected("a positive mass from the data file's Masses section or a `mass` command")
+          .fix("add `mass " + std::to_string(t) + " <value>` to the potential file");
+    body.mass[i] = m;
+  }
+  atomistic::FamilyOptions fo;
+  fo.cutoff = options.cutoff > 0.0 ? options.cutoff : potential->cutoff();
+  if (!atoms.bonds.empty()) {
+    fo.molecular_bonds = &atoms.bonds;
+    fo.special_lj = spec.special_lj;
+  }
+  body.families = atomistic::build_families(atoms, fo);
+  body.base_horizon = fo.cutoff;
+  body.potential = potential;
+  body.base_potential = potential;
+  body.potential_spec = std::move(spec);
+  body.provenance.push_back("delta body from " + (options.source.empty() ? std::string("atoms") : options.source) +
+                            " with " + potential->style());
+  return body;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rescaled potential
+
+namespace {
+
+class RescaledPotential final : public atomistic::Potential {
+ public:
+  RescaledPotential(std::shared_ptr<const atomistic::Potential> base, double eps, int d)
+      : base_(std::move(base)), eps_(eps), psi_scale_(std::pow(eps, d)), t_scale_(std::pow(eps, d - 1)) {}
+  std::string style() const override { return base_->style(); }
+  double cutoff() const override { return eps_ * base_->cutoff(); }
+  int ntypes() const override { return base_->ntypes(); }
+  bool pairwise() const override { return base_->pairwise(); }
+  double force_state(const atomistic::FamilyState& family, double* t) const override {
+    // Thread-local buffer: grows to the largest family once per thread, then never allocates.
+    thread_local std::vector<double> z;
+    const auto n3 = static_cast<std::size_t>(3 * family.size);
+    if (z.size() < n3) z.resize(n3);
+    const double inv = 1.0 / eps_;
+    for (std::size_t i = 0; i < n3; ++i) z[i] = inv * family.bond[i];
+    atomistic::FamilyState f = family;
+    f.bond = z.data();
+    const double psi = base_->force_state(f, t);
+    for (std::size_t i = 0; i < n3; ++i) t[i] *= t_scale_;
+    return psi_scale_ * psi;
+  }
+
+ private:
+  std::shared_ptr<const atomistic::Potential> base_;
+  double eps_, psi_scale_, t_scale_;
+};
+
+}  // namespace
+
+std::shared_ptr<const atomistic::Potential> rescaled_potential(std::shared_ptr<const atomistic::Potential> base,
+                                                               double epsilon, int dimension) {
+  if (!(epsilon > 0.0) || !std::isfinite(epsilon))
+    throw InputError("rescaling factor must be positive")
+        .key("factor")
+        .value(std::to_string(epsilon))
+        .expected("ε > 0 (ε = δ'/δ, the ratio of new to old horizon)")
+        .fix("give a positive --factor or --horizon");
+  if (epsilon == 1.0) return base;
+  return std::make_shared<RescaledPotential>(std::move(base), epsilon, dimension);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Evaluator
+
+Evaluator::Evaluator(const Body& body) : body_(body) {
+  if (!body.potential) throw InputError("body has no potential").fix("build the body with a potential");
+  const std::size_t n = body.size(), nb = body.families.bonds();
+  y_.resize(3 * n);
+  bonds_.resize(3 * nb);
+  t_.resize(3 * nb);
+  psi_.resize(n);
+  f_.resize(3 * n);
+  scratch_ = std::make_unique<detail::Scratch>();
+}
+
+Evaluator::~Evaluator() = default;
+
+Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G) {
+  const auto& fam = body_.families;
+  if (y.size() != 3 * body_.size())
+    throw InputError("deformed configuration has the wrong number of atoms")
+        .key("positions")
+        .value(std::to_string(y.size() / 3))
+        .expected(std::to_string(body_.size()) + " atoms with the body's ids");
+  atomistic::deformed_bonds(fam, y, h_y, bonds_);
+  Evaluation e;
+  if (body_.statistics) {
+    e.energy = detail::statistical_force_states(body_, *body_.statistics, y, h_y, G, bonds_, psi_, t_, *scratch_);
+  } else {
+    e.energy = atomistic::force_states(*body_.potential, fam, body_.type, bonds_, psi_, t_);
+  }
+  atomistic::pd_forces(fam, t_, f_);
+  e.psi = psi_;
+  e.t = t_;
+  e.forces = f_;
+  return e;
+}
+
+Evaluation Evaluator::reference() {
+  return run(body_.x, body_.families.h, Eigen::Matrix3d::Identity());
+}
+
+Evaluation Evaluator::deformed(std::span<const double> y, const Eigen::Matrix3d& h_deformed) {
+  return run(y, h_deformed, Eigen::Matrix3d::Identity());
+}
+
+Evaluation Evaluator::deformed(std::span<const double> y) { return deformed(y, body_.families.h); }
+
+Evaluation Evaluator::homogeneous(const Eigen::Matrix3d& F) {
+  const std::size_t n = body_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d xi(body_.x[3 * i], body_.x[3 * i + 1], body_.x[3 * i + 2]);
+    const Eigen::Vector3d yi = F * xi;
+    for (int k = 0; k < 3; ++k) y_[3 * i + static_cast<std::size_t>(k)] = yi[k];
+  }
+  return run(y_, F * body_.families.h, F);
+}
+
+std::vector<double> Evaluator::point_energies() const {
+  if (!body_.homogenisation)
+    throw InputError("point energies need a homogenised body").fix("run `pdcg homogenize` first");
+  const auto& h = *body_.homogenisation;
+  std::vector<double> e(h.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t p = 0; p < static_cast<std::int64_t>(h.size()); ++p) {
+    double s = 0.0;
+    for (auto c = h.offset[static_cast<std::size_t>(p)]; c < h.offset[static_cast<std::size_t>(p) + 1]; ++c)
+      s += h.weight[static_cast<std::size_t>(c)] * psi_[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])];
+    e[static_cast<std::size_t>(p)] = s;
+  }
+  return e;
+}
+
+}  // namespace pdcg::body

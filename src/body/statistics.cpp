@@ -1,0 +1,366 @@
+#include "pdcg/body/statistics.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "pdcg/core/error.hpp"
+#include "statistics_impl.hpp"
+
+namespace pdcg::body {
+
+void gauss_hermite(int n, std::vector<double>& nodes, std::vector<double>& weights) {
+  if (n < 1 || n > 64)
+    throw InputError("Gauss–Hermite order out of range")
+        .key("order")
+        .value(std::to_string(n))
+        .expected("1..64 points per dimension")
+        .fix("orders 3..10 are usual");
+  // Golub–Welsch: Jacobi matrix of the probabilists' Hermite polynomials He_n
+  // (recurrence z He_k = He_{k+1} + k He_{k−1}): off-diagonal √k, zero diagonal.
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, n);
+  for (int k = 1; k < n; ++k) J(k, k - 1) = J(k - 1, k) = std::sqrt(static_cast<double>(k));
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(J);
+  nodes.resize(static_cast<std::size_t>(n));
+  weights.resize(static_cast<std::size_t>(n));
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    nodes[static_cast<std::size_t>(i)] = es.eigenvalues()[i];
+    const double v = es.eigenvectors()(0, i);
+    weights[static_cast<std::size_t>(i)] = v * v;  // times ∫ N(0,1) = 1
+    sum += v * v;
+  }
+  for (auto& w : weights) w /= sum;  // exact normalisation (eigenvectors are unit up to round-off)
+}
+
+Statistics isotropic_gaussian(const Body& body, double width) {
+  if (!(width >= 0.0) || !std::isfinite(width))
+    throw InputError("statistical width must be non-negative")
+        .key("width")
+        .value(std::to_string(width))
+        .expected("σ ≥ 0 (a length, e.g. √(k_B T / k) for a harmonic well)");
+  Statistics s;
+  s.form = Statistics::Form::gaussian;
+  s.covariance.assign(9 * body.size(), 0.0);
+  for (std::size_t i = 0; i < body.size(); ++i)
+    for (int a = 0; a < body.dimension; ++a) s.covariance[9 * i + static_cast<std::size_t>(4 * a)] = width * width;
+  return s;
+}
+
+namespace {
+
+/// Displacements of every atom in every frame relative to the body's positions (minimum image
+/// along periodic directions), checked ids. Returns S×3N.
+std::vector<std::vector<double>> displacements(const Body& body, std::span<const atomistic::Atoms> frames) {
+  if (frames.size() < 2)
+    throw InputError("statistical densities need several frames")
+        .key("frames")
+        .value(std::to_string(frames.size()))
+        .expected("at least 2 frames")
+        .fix("give a frame range A:B with B > A");
+  std::vector<std::vector<double>> out;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    atomistic::Atoms a = frames[f];
+    atomistic::sort_by_id(a);
+    if (a.id != body.id)
+      throw InputError("frame does not hold the body's atoms")
+          .key("frame " + std::to_string(f))
+          .value(std::to_string(a.size()) + " atoms")
+          .expected(std::to_string(body.size()) + " atoms with the same ids as the reference frame")
+          .fix("use frames of the same trajectory");
+    std::vector<double> d(3 * body.size());
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      Eigen::Vector3d v(a.x[3 * i] - body.x[3 * i], a.x[3 * i + 1] - body.x[3 * i + 1],
+                        a.x[3 * i + 2] - body.x[3 * i + 2]);
+      if (body.periodic()) v = body.box.minimum_image(v);
+      for (int k = 0; k < 3; ++k) d[3 * i + static_cast<std::size_t>(k)] = v[k];
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+/// Moves the body's reference positions to new means and recomputes the reference bonds
+/// ξ_b = x_j − x_k + H n_b (family topology unchanged).
+void move_means(Body& body, const std::vector<double>& mean) {
+  body.x = mean;
+  auto& fam = body.families;
+  for (std::size_t i = 0; i < fam.points(); ++i)
+    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
+      const Eigen::Vector3d n(fam.shift[3 * b], fam.shift[3 * b + 1], fam.shift[3 * b + 2]);
+      const Eigen::Vector3d xi = Eigen::Vector3d(mean[3 * j] - mean[3 * i], mean[3 * j + 1] - mean[3 * i + 1],
+                                                 mean[3 * j + 2] - mean[3 * i + 2]) +
+                                 fam.h * n;
+      for (int k = 0; k < 3; ++k) fam.xi[3 * b + static_cast<std::size_t>(k)] = xi[k];
+    }
+}
+
+}  // namespace
+
+Statistics gaussian_from_frames(Body& body, std::span<const atomistic::Atoms> frames) {
+  const auto d = displacements(body, frames);
+  const std::size_t n = body.size();
+  const double S = static_cast<double>(d.size());
+  std::vector<double> mean(3 * n, 0.0);
+  Statistics s;
+  s.form = Statistics::Form::gaussian;
+  s.covariance.assign(9 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    for (const auto& f : d) m += Eigen::Vector3d(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+    m /= S;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const auto& f : d) {
+      const Eigen::Vector3d v = Eigen::Vector3d(f[3 * i], f[3 * i + 1], f[3 * i + 2]) - m;
+      C += v * v.transpose();
+    }
+    C /= S;  // moments of the empirical distribution (same second moment as the empirical form)
+    for (int a = 0; a < 3; ++a) {
+      mean[3 * i + static_cast<std::size_t>(a)] = body.x[3 * i + static_cast<std::size_t>(a)] + m[a];
+      for (int b = 0; b < 3; ++b) s.covariance[9 * i + static_cast<std::size_t>(3 * a + b)] = C(a, b);
+    }
+  }
+  move_means(body, mean);
+  return s;
+}
+
+Statistics empirical_from_frames(Body& body, std::span<const atomistic::Atoms> frames) {
+  const auto d = displacements(body, frames);
+  const std::size_t n = body.size();
+  std::vector<double> mean(3 * n, 0.0);
+  for (const auto& f : d)
+    for (std::size_t c = 0; c < 3 * n; ++c) mean[c] += f[c] / static_cast<double>(d.size());
+  Statistics s;
+  s.form = Statistics::Form::empirical;
+  for (const auto& f : d) {
+    std::vector<double> pos(3 * n);
+    for (std::size_t c = 0; c < 3 * n; ++c) pos[c] = body.x[c] + f[c];
+    s.frames.push_back(std::move(pos));
+  }
+  for (std::size_t c = 0; c < 3 * n; ++c) mean[c] += body.x[c];
+  move_means(body, mean);
+  return s;
+}
+
+void make_statistical(Body& body, Statistics s) {
+  if (s.form == Statistics::Form::gaussian) {
+    if (s.covariance.size() != 9 * body.size())
+      throw InputError("covariances do not match the body")
+          .key("covariance")
+          .value(std::to_string(s.covariance.size() / 9))
+          .expected(std::to_string(body.size()) + " 3×3 matrices");
+    if (s.method == Statistics::Method::cubature) {
+      if (s.order < 1 || s.order > 64)
+        throw InputError("Gauss–Hermite order out of range")
+            .key("order")
+            .value(std::to_string(s.order))
+            .expected("1..64");
+      if (!body.potential->pairwise())
+        throw InputError("Gauss–Hermite cubature needs a pair potential")
+            .key("order")
+            .value(body.potential->style())
+            .expected("a pair potential (lj/cut, morse, …)")
+            .fix("use sampling (--samples N) for many-body potentials");
+    } else if (s.samples < 1) {
+      throw InputError("sample count must be positive").key("samples").value(std::to_string(s.samples));
+    }
+  } else {
+    if (s.frames.empty())
+      throw InputError("empirical statistics without frames").key("frames").expected("at least 2 frames");
+    for (const auto& f : s.frames)
+      if (f.size() != 3 * body.size())
+        throw InputError("frame size does not match the body").key("frames").value(std::to_string(f.size() / 3));
+  }
+  body.statistics = std::move(s);
+  body.kind = BodyKind::statistical;
+  body.provenance.push_back(std::string("statistical densities: ") +
+                            (body.statistics->form == Statistics::Form::gaussian
+                                 ? (body.statistics->method == Statistics::Method::cubature
+                                        ? "gaussian, Gauss–Hermite order " + std::to_string(body.statistics->order)
+                                        : "gaussian, " + std::to_string(body.statistics->samples) + " samples")
+                                 : "empirical, " + std::to_string(body.statistics->frames.size()) + " frames"));
+}
+
+namespace detail {
+
+namespace {
+
+/// 3×d factor A with A Aᵀ = C restricted to the first d directions (eigen-decomposition of the
+/// zero-padded block, robust for singular C such as σ = 0; fixed size: allocates nothing). The
+/// columns are ordered by decreasing eigenvalue, so the first d carry the whole block.
+Eigen::Matrix3d factor_of(const Eigen::Matrix3d& C, int d) {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  M.topLeftCorner(d, d) = C.topLeftCorner(d, d);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M);
+  Eigen::Matrix3d A;
+  for (int c = 0; c < 3; ++c) A.col(c) = es.eigenvectors().col(2 - c) * std::sqrt(std::max(0.0, es.eigenvalues()[2 - c]));
+  return A;
+}
+
+Eigen::Matrix3d cov_of(const Statistics& s, std::size_t i) {
+  Eigen::Matrix3d C;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) C(a, b) = s.covariance[9 * i + static_cast<std::size_t>(3 * a + b)];
+  return C;
+}
+
+/// Shared sampling/empirical accumulation: evaluates the whole body at sample positions ys and
+/// adds weight·ψ_k, weight·t_b. One fused parallel loop over atoms (bonds of atom k are built
+/// in k's slice of the scratch arrays); no allocation.
+double accumulate_sample(const Body& body, std::span<const double> ys, const Eigen::Matrix3d& h_y, double weight,
+                         std::span<double> psi_out, std::span<double> t_out, Scratch& sc) {
+  const auto& fam = body.families;
+  const auto& pot = *body.potential;
+  double total = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : total)
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body.size()); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const auto b0 = static_cast<std::size_t>(fam.offset[i]), b1 = static_cast<std::size_t>(fam.offset[i + 1]);
+    for (std::size_t b = b0; b < b1; ++b) {
+      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
+      const double s0 = fam.shift[3 * b], s1 = fam.shift[3 * b + 1], s2 = fam.shift[3 * b + 2];
+      for (int k = 0; k < 3; ++k)
+        sc.bonds[3 * b + static_cast<std::size_t>(k)] = ys[3 * j + static_cast<std::size_t>(k)] -
+                                                        ys[3 * i + static_cast<std::size_t>(k)] + h_y(k, 0) * s0 +
+                                                        h_y(k, 1) * s1 + h_y(k, 2) * s2;
+    }
+    atomistic::FamilyState f;
+    f.type = body.type[i];
+    f.size = static_cast<std::int64_t>(b1 - b0);
+    f.neighbor_type = sc.ntype.data() + b0;
+    f.bond = sc.bonds.data() + 3 * b0;
+    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const double psi = pot.force_state(f, sc.t.data() + 3 * b0);
+    psi_out[i] += weight * psi;
+    for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * sc.t[c];
+    total += weight * psi;
+  }
+  return total;
+}
+
+}  // namespace
+
+double statistical_force_states(const Body& body, const Statistics& s, std::span<const double> y,
+                                const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G,
+                                std::span<const double> mean_bonds, std::span<double> psi_out,
+                                std::span<double> t_out, Scratch& sc) {
+  const auto& fam = body.families;
+  const std::size_t n = body.size(), nb = fam.bonds();
+  const int d = body.dimension;
+  std::fill(psi_out.begin(), psi_out.end(), 0.0);
+  std::fill(t_out.begin(), t_out.end(), 0.0);
+  const bool per_sample = s.form == Statistics::Form::empirical || s.method == Statistics::Method::sampling;
+  sc.ntype.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) sc.ntype[b] = body.type[static_cast<std::size_t>(fam.neighbor[b])];
+  if (per_sample) {
+    sc.ys.resize(3 * n);
+    sc.bonds.resize(3 * nb);
+    sc.t.resize(3 * nb);
+    sc.psi.resize(n);
+  }
+  if (s.form == Statistics::Form::empirical) {
+    // y^f = y + G (x^f − x̄): each frame's fluctuation carried by the deformation.
+    const double w = 1.0 / static_cast<double>(s.frames.size());
+    double e = 0.0;
+    for (const auto& f : s.frames) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector3d dx(f[3 * i] - body.x[3 * i], f[3 * i + 1] - body.x[3 * i + 1],
+                                 f[3 * i + 2] - body.x[3 * i + 2]);
+        const Eigen::Vector3d g = G * dx;
+        for (int k = 0; k < 3; ++k) sc.ys[3 * i + static_cast<std::size_t>(k)] = y[3 * i + static_cast<std::size_t>(k)] + g[k];
+      }
+      e += accumulate_sample(body, sc.ys, h_y, w, psi_out, t_out, sc);
+    }
+    return e;
+  }
+  // Gaussian: factors of Σ_k (3×d, stored col-major 9 per atom).
+  sc.factor.resize(9 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix3d A = factor_of(cov_of(s, i), d);
+    std::copy(A.data(), A.data() + 9, sc.factor.data() + 9 * i);
+  }
+  if (s.method == Statistics::Method::sampling) {
+    std::mt19937_64 rng(s.seed);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    const double w = 1.0 / static_cast<double>(s.samples);
+    double e = 0.0;
+    for (std::int64_t smp = 0; smp < s.samples; ++smp) {
+      for (std::size_t i = 0; i < n; ++i) {
+        Eigen::Vector3d z = Eigen::Vector3d::Zero();
+        for (int a = 0; a < d; ++a) z[a] = normal(rng);
+        const Eigen::Vector3d g = G * (Eigen::Map<const Eigen::Matrix3d>(sc.factor.data() + 9 * i) * z);
+        for (int k = 0; k < 3; ++k) sc.ys[3 * i + static_cast<std::size_t>(k)] = y[3 * i + static_cast<std::size_t>(k)] + g[k];
+      }
+      e += accumulate_sample(body, sc.ys, h_y, w, psi_out, t_out, sc);
+    }
+    return e;
+  }
+  // Cubature (pair potentials): per bond b = (k → j), Y_b + G A_b z with A_b A_bᵀ = Σ_k + Σ_j,
+  // z on the tensor-product Gauss–Hermite grid (order^d nodes).
+  if (sc.order != s.order || sc.dim != d) {
+    std::vector<double> z1, w1;
+    gauss_hermite(s.order, z1, w1);
+    const auto m = static_cast<std::size_t>(s.order);
+    std::size_t count = 1;
+    for (int a = 0; a < d; ++a) count *= m;
+    sc.nodes.assign(3 * count, 0.0);
+    sc.weights.assign(count, 1.0);
+    for (std::size_t c = 0; c < count; ++c) {
+      std::size_t r = c;
+      for (int a = 0; a < d; ++a) {
+        sc.nodes[3 * c + static_cast<std::size_t>(a)] = z1[r % m];
+        sc.weights[c] *= w1[r % m];
+        r /= m;
+      }
+    }
+    sc.order = s.order;
+    sc.dim = d;
+  }
+  const std::size_t count = sc.weights.size();
+  const auto& pot = *body.potential;
+  double total = 0.0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : total)
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const Eigen::Matrix3d Ci = cov_of(s, i);
+    double psi = 0.0;
+    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
+      const Eigen::Matrix3d B = G * factor_of(Ci + cov_of(s, j), d);
+      atomistic::FamilyState f;
+      f.type = body.type[i];
+      f.size = 1;
+      f.neighbor_type = sc.ntype.data() + b;
+      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b;
+      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b;
+      double yb[3], tb[3];
+      f.bond = yb;
+      double tx = 0, ty = 0, tz = 0, e = 0;
+      for (std::size_t c = 0; c < count; ++c) {
+        const Eigen::Vector3d z(sc.nodes[3 * c], sc.nodes[3 * c + 1], sc.nodes[3 * c + 2]);
+        const Eigen::Vector3d dz = B * z;
+        for (int k = 0; k < 3; ++k) yb[k] = mean_bonds[3 * b + static_cast<std::size_t>(k)] + dz[k];
+        const double w = sc.weights[c];
+        e += w * pot.force_state(f, tb);
+        tx += w * tb[0];
+        ty += w * tb[1];
+        tz += w * tb[2];
+      }
+      t_out[3 * b] = tx;
+      t_out[3 * b + 1] = ty;
+      t_out[3 * b + 2] = tz;
+      psi += e;
+    }
+    psi_out[i] = psi;
+    total += psi;
+  }
+  return total;
+}
+
+}  // namespace detail
+
+}  // namespace pdcg::body
