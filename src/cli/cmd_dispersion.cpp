@@ -4,16 +4,24 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <numbers>
+#include <optional>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "command.hpp"
+#include "pdcg/config.hpp"
 #include "pdcg/atomistic/dump_reader.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/parse.hpp"
 #include "pdcg/core/progress.hpp"
+#include "pdcg/body/model_file.hpp"
+#include "pdcg/dispersion/body_dispersion.hpp"
+#include "pdcg/dispersion/curves.hpp"
 #include "pdcg/dispersion/trajectory.hpp"
 #include "pdcg/io/atomic_output.hpp"
 #include "pdcg/io/png.hpp"
@@ -21,6 +29,11 @@
 namespace {
 
 struct Options {
+  std::string body, direction, path, lattice, plot;
+  double a = 0.0, kmax = 0.0;
+  int nk = 50;
+  long point = -1;
+  bool cell = false;
   std::string trajectory, axis = "x", component, frames = "0:-1", output, spectrum, compare;
   double dt = 0.0, resolution = 0.0;
   std::string window = "hann";
@@ -33,63 +46,9 @@ int axis_index(const std::string& s, const char* option) {
   throw pdcg::InputError("unknown axis").key(option).value(s).expected("x, y or z");
 }
 
-/// Reference curves: a CSV with a `kappa` column and one or more `omega…` columns.
-struct Curves {
-  std::vector<double> kappa;
-  std::vector<std::vector<double>> omega;  // per branch
-};
-
-Curves read_curves(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw pdcg::InputError("cannot open comparison file").key("--compare").value(path).expected("a CSV file");
-  std::string line;
-  long lineno = 1;
-  if (!std::getline(in, line)) throw pdcg::InputError("empty comparison file").source(path);
-  std::vector<std::string> header;
-  std::stringstream hs(line);
-  for (std::string h; std::getline(hs, h, ',');) header.push_back(std::string(pdcg::trim(h)));
-  int kcol = -1;
-  std::vector<int> wcols;
-  for (std::size_t c = 0; c < header.size(); ++c) {
-    if (header[c] == "kappa") kcol = static_cast<int>(c);
-    if (header[c].rfind("omega", 0) == 0 && header[c].find("ref") == std::string::npos) wcols.push_back(static_cast<int>(c));
-  }
-  if (kcol < 0 || wcols.empty())
-    throw pdcg::InputError("comparison file lacks the columns it needs")
-        .source(path)
-        .line(1)
-        .value(line)
-        .expected("a header with `kappa` and at least one `omega…` column")
-        .fix("use a CSV written by `pdcg dispersion`");
-  Curves c;
-  c.omega.resize(wcols.size());
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (pdcg::trim(line).empty()) continue;
-    std::vector<std::string> f;
-    std::stringstream ls(line);
-    for (std::string v; std::getline(ls, v, ',');) f.push_back(v);
-    if (f.size() < header.size())
-      throw pdcg::InputError("fewer columns than the header").source(path).line(lineno).value(line);
-    c.kappa.push_back(pdcg::parse_double(pdcg::trim(f[static_cast<std::size_t>(kcol)]), {path, lineno, "kappa"}));
-    for (std::size_t b = 0; b < wcols.size(); ++b)
-      c.omega[b].push_back(pdcg::parse_double(pdcg::trim(f[static_cast<std::size_t>(wcols[b])]), {path, lineno, header[static_cast<std::size_t>(wcols[b])]}));
-  }
-  return c;
-}
-
-/// Linear interpolation of branch b at κ; NaN outside the reference's range.
-double interpolate(const Curves& c, std::size_t b, double k) {
-  for (std::size_t i = 0; i + 1 < c.kappa.size(); ++i) {
-    const double k0 = c.kappa[i], k1 = c.kappa[i + 1];
-    if ((k >= k0 && k <= k1) || (k <= k0 && k >= k1)) {
-      const double s = k1 == k0 ? 0.0 : (k - k0) / (k1 - k0);
-      return c.omega[b][i] + s * (c.omega[b][i + 1] - c.omega[b][i]);
-    }
-  }
-  if (!c.kappa.empty() && std::abs(k - c.kappa.back()) <= 1e-12 * std::abs(k)) return c.omega[b].back();
-  return std::numeric_limits<double>::quiet_NaN();
-}
+using pdcg::dispersion::Curves;
+using pdcg::dispersion::interpolate;
+using pdcg::dispersion::read_curves;
 
 int run_trajectory(const Options& o) {
   pdcg::atomistic::DumpReader reader(o.trajectory);
@@ -195,26 +154,172 @@ int run_trajectory(const Options& o) {
   return 0;
 }
 
+
+/// Path to a helper script: beside the installed executable (../share/pdcg) or in the source tree.
+std::string helper_script(const std::string& name) {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const auto installed = exe.parent_path().parent_path() / "share" / "pdcg" / name;
+    if (std::filesystem::exists(installed)) return installed.string();
+  }
+  return std::string(PDCG_SOURCE_DIR) + "/workflows/lib/" + name;
+}
+
+void plot_csv(const std::string& csv, const std::string& png, const std::string& title) {
+  const std::string script = helper_script("plot_dispersion.py");
+  const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}' '{}' '{}'", script, csv, png, title);
+  if (std::system(cmd.c_str()) != 0)
+    throw pdcg::Error("plotting failed (needs /usr/bin/python3 with matplotlib): " + cmd);
+}
+
+Eigen::Vector3d parse_vector(const std::string& text, const char* option) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  for (std::string t; std::getline(ss, t, ',');)
+    v.push_back(pdcg::parse_double(pdcg::trim(t), {"", 0, option}));
+  if (v.size() != 3 || Eigen::Vector3d(v[0], v[1], v[2]).norm() == 0.0)
+    throw pdcg::InputError("a direction needs three components, not all zero")
+        .key(option)
+        .value(text)
+        .expected("e.g. 1,0,0");
+  return {v[0], v[1], v[2]};
+}
+
+int run_model(const Options& o) {
+  if (o.direction.empty() == o.path.empty())
+    throw pdcg::InputError("give exactly one of --direction and --path")
+        .key(o.direction.empty() ? "--direction/--path" : "--direction and --path")
+        .expected("--direction 1,0,0 or --path G-X-L");
+  if (o.nk < 1) throw pdcg::InputError("--nk must be at least 1").key("--nk").value(std::to_string(o.nk));
+  const pdcg::body::Body body = pdcg::body::read_body(o.body);
+  const pdcg::dispersion::BodyDispersion model(
+      body, o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt, o.cell);
+  std::string lattice = o.lattice;
+  double a = o.a;
+  auto need_lattice = [&] {
+    if (lattice.empty() || !(a > 0)) {
+      const auto g = pdcg::dispersion::detect_lattice(body, model.representative_atom());
+      if (lattice.empty()) lattice = g.lattice;
+      if (!(a > 0)) a = g.a;
+      pdcg::log::info("lattice {} with a = {:.6g} (nearest neighbours: {} at {:.6g})", lattice, a, g.coordination,
+                      g.nearest);
+    }
+  };
+  std::vector<std::pair<double, Eigen::Vector3d>> ks;
+  if (!o.path.empty()) {
+    need_lattice();
+    ks = pdcg::dispersion::path(lattice, a, o.path, o.nk);
+  } else {
+    const Eigen::Vector3d dir = parse_vector(o.direction, "--direction").normalized();
+    double kmax = o.kmax;
+    if (!(kmax > 0)) {
+      // zone edge along the direction: π over the shortest non-zero projection of the
+      // nearest-neighbour bonds (chain: π/h; fcc [100]: 2π/a; fcc [111]: √3π/a)
+      const auto& f = body.families;
+      const std::size_t k = model.representative_atom();
+      const auto g = pdcg::dispersion::detect_lattice(body, k);
+      double proj = std::numeric_limits<double>::infinity();
+      for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i) {
+        const Eigen::Vector3d xi(f.xi[3 * i], f.xi[3 * i + 1], f.xi[3 * i + 2]);
+        if (xi.norm() > 1.01 * g.nearest) continue;
+        const double p = std::abs(xi.dot(dir));
+        if (p > 1e-9 * g.nearest) proj = std::min(proj, p);
+      }
+      kmax = std::numbers::pi / proj;
+    }
+    for (int i = 0; i <= o.nk; ++i) {
+      const double k = kmax * i / o.nk;
+      ks.emplace_back(k, k * dir);
+    }
+  }
+  Curves ref;
+  if (!o.compare.empty()) ref = read_curves(o.compare);
+  pdcg::io::AtomicTextFile csv(o.output);
+  const auto first = model.omega(ks[0].second);
+  const auto nb = static_cast<std::size_t>(first.size());
+  csv.stream() << "kappa";
+  for (std::size_t b = 0; b < nb; ++b) csv.stream() << ",omega_" << b + 1;
+  csv.stream() << ",kx,ky,kz";
+  for (std::size_t j = 0; j < ref.omega.size(); ++j) csv.stream() << ",omega_ref_" << j + 1 << ",error_" << j + 1;
+  csv.stream() << "\n";
+  double worst = 0.0, worst_k = 0.0, wmin = 0.0;
+  for (const auto& [s, k] : ks) {
+    const Eigen::VectorXd w = model.omega(k);
+    wmin = std::min(wmin, w.minCoeff());
+    csv.stream() << fmt::format("{:.17g}", s);
+    for (Eigen::Index b = 0; b < w.size(); ++b) csv.stream() << fmt::format(",{:.17g}", w[b]);
+    csv.stream() << fmt::format(",{:.17g},{:.17g},{:.17g}", k[0], k[1], k[2]);
+    for (std::size_t j = 0; j < ref.omega.size(); ++j) {
+      const double r = interpolate(ref, j, s);
+      double best = std::numeric_limits<double>::quiet_NaN();
+      for (Eigen::Index b = 0; b < w.size(); ++b)
+        if (!std::isfinite(best) || std::abs(w[b] - r) < std::abs(best - r)) best = w[b];
+      const double err = best - r;
+      csv.stream() << fmt::format(",{:.17g},{:.17g}", r, err);
+      if (std::isfinite(err) && std::abs(err) > std::abs(worst)) {
+        worst = err;
+        worst_k = s;
+      }
+    }
+    csv.stream() << "\n";
+  }
+  csv.commit();
+  std::printf("model dispersion of %s: %zu κ points, %zu branches -> %s\n", model.description().c_str(), ks.size(), nb,
+              o.output.c_str());
+  if (wmin < 0)
+    std::printf("warning: unstable modes (ω² < 0, written as −√|ω²|): the reference configuration is not a minimum\n");
+  if (!o.compare.empty())
+    std::printf("worst error against %s: %.6g at κ = %.6g\n", o.compare.c_str(), worst, worst_k);
+  if (!o.plot.empty()) {
+    plot_csv(o.output, o.plot, model.description());
+    std::printf("plot -> %s\n", o.plot.c_str());
+  }
+  return 0;
+}
+
 pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("dispersion", "Dispersion ω(κ) measured from a trajectory, compared with a reference");
+  auto* sub = app.add_subcommand(
+      "dispersion", "Dispersion ω(κ) of a body (model) or of a trajectory (measured), compared with a reference");
   auto o = std::make_shared<Options>();
-  sub->add_option("--trajectory", o->trajectory, "LAMMPS dump (text or .gz) of a periodic lattice")->required();
-  sub->add_option("--axis", o->axis, "Wave direction: x, y or z (a lattice direction)");
-  sub->add_option("--component", o->component, "Displacement component (default: the axis, longitudinal)");
-  sub->add_option("--frames", o->frames, "Frames A:B[:S] (inclusive, 0-based, negative from the end)");
-  sub->add_option("--dt", o->dt, "MD time step, when the dump has no ITEM: TIME");
-  sub->add_option("--resolution", o->resolution, "Refuse trajectories whose frequency resolution is coarser");
-  sub->add_option("--window", o->window, "Time window: hann (default) or none")->check(CLI::IsMember({"hann", "none"}));
-  sub->add_option("-o,--output", o->output, "CSV: kappa,omega,power,resolution[,omega_ref,error,error_in_bins]")
+  sub->add_option("body", o->body, "pdcg body file (model dispersion)");
+  sub->add_option("--direction", o->direction, "Model: wave direction, e.g. 1,0,0");
+  sub->add_option("--path", o->path, "Model: high-symmetry path, e.g. G-X-K-G-L");
+  sub->add_option("--nk", o->nk, "Model: κ points per direction or path segment (default 50)");
+  sub->add_option("--kmax", o->kmax, "Model, --direction: largest |κ| (default: zone edge)");
+  sub->add_option("--lattice", o->lattice, "Model: fcc, bcc, sc, hex or chain (default: from the neighbour shell)");
+  sub->add_option("--a", o->a, "Model: lattice constant for --path (default: from the neighbour shell)");
+  sub->add_option("--point", o->point, "Model: atom / homogenised point index (default: nearest the box centre)");
+  sub->add_flag("--cell", o->cell, "Model: all atoms of the periodic body as a basis (3N folded branches)");
+  sub->add_option("--plot", o->plot, "Model: PNG plot of the curves (matplotlib)");
+  sub->add_option("--trajectory", o->trajectory, "Measured: LAMMPS dump (text or .gz) of a periodic lattice");
+  sub->add_option("--axis", o->axis, "Measured: wave direction x, y or z (a lattice direction)");
+  sub->add_option("--component", o->component, "Measured: displacement component (default: the axis)");
+  sub->add_option("--frames", o->frames, "Measured: frames A:B[:S] (inclusive, 0-based, negative from the end)");
+  sub->add_option("--dt", o->dt, "Measured: MD time step, when the dump has no ITEM: TIME");
+  sub->add_option("--resolution", o->resolution, "Measured: refuse trajectories whose Δω is coarser");
+  sub->add_option("--window", o->window, "Measured: time window hann (default) or none")
+      ->check(CLI::IsMember({"hann", "none"}));
+  sub->add_option("-o,--output", o->output,
+                  "CSV: model kappa,omega_1..omega_n,kx,ky,kz; measured kappa,omega,power,resolution; "
+                  "--compare adds reference and error columns")
       ->required();
-  sub->add_option("--spectrum", o->spectrum, "PNG image of the power spectrum S(κ, ω)");
-  sub->add_option("--compare", o->compare, "CSV with kappa and omega… columns (model or closed form) to compare with");
+  sub->add_option("--spectrum", o->spectrum, "Measured: PNG image of the power spectrum S(κ, ω)");
+  sub->add_option("--compare", o->compare, "CSV with kappa and omega… columns to compare with");
   sub->footer(
-      "Example:\n"
-      "  pdcg dispersion --trajectory chain.dump --axis x --dt 0.01 -o measured.csv --spectrum S.png\n"
-      "Atoms are grouped into lattice planes normal to the axis; the plane displacements are\n"
-      "transformed in space and time (FFTW); the ridge is the frequency of peak power per κ.");
-  return [o] { return run_trajectory(*o); };
+      "Examples:\n"
+      "  pdcg dispersion body.h5 --path G-X-K-G-L --nk 40 -o disp.csv --plot disp.png\n"
+      "  pdcg dispersion chain.h5 --direction 1,0,0 -o model.csv\n"
+      "  pdcg dispersion --trajectory chain.dump --axis x --dt 0.01 -o measured.csv --compare model.csv\n"
+      "Model: eigenvalues of the dynamical matrix of the linearised body at one point (or cell).\n"
+      "Measured: lattice planes normal to the axis, space–time FFT (FFTW), ridge of peak power per κ.");
+  return [o] {
+    if (o->body.empty() == o->trajectory.empty())
+      throw pdcg::InputError("give either a body file (model) or --trajectory (measured), not both")
+          .key("pdcg dispersion")
+          .expected("pdcg dispersion BODY.h5 … or pdcg dispersion --trajectory DUMP …");
+    return o->body.empty() ? run_trajectory(*o) : run_model(*o);
+  };
 });
 
 }  // namespace

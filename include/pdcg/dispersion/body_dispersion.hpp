@@ -1,0 +1,50 @@
+/// \file
+/// Model dispersion of a pdcg body (delta, homogenised or rescaled) — see model.hpp for the
+/// equations. A point of the body is either one atom (delta, rescaled) or one homogenised
+/// point with its weighted atoms; `cell` mode treats all atoms of a periodic body as the
+/// basis of its cell (3N folded branches).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+
+#include "pdcg/body/body.hpp"
+#include "pdcg/dispersion/model.hpp"
+
+namespace pdcg::dispersion {
+
+/// The Bravais lattice a body's point sits on, told from its nearest-neighbour shell:
+/// 2 neighbours on a line → chain (a = d_nn); 6 in a plane → hex (a = d_nn); 6 → sc (a = d_nn);
+/// 8 → bcc (a = 2d_nn/√3); 12 → fcc (a = √2·d_nn). Throws InputError otherwise (pass
+/// --lattice and --a).
+struct LatticeGuess {
+  std::string lattice;
+  double a = 0.0;
+  double nearest = 0.0;
+  int coordination = 0;
+};
+LatticeGuess detect_lattice(const body::Body& body, std::size_t atom);
+
+class BodyDispersion {
+ public:
+  /// point: atom index (delta/rescaled) or homogenised point index; nullopt = the point nearest
+  /// the centre of the box. cell: all atoms as the basis of a periodic cell.
+  BodyDispersion(const body::Body& body, std::optional<std::size_t> point, bool cell);
+  /// Frequencies at κ, ascending (3 for a point, 3N in cell mode).
+  Eigen::VectorXd omega(const Eigen::Vector3d& kappa) const;
+  /// An atom of the chosen point (for detect_lattice).
+  std::size_t representative_atom() const { return representative_; }
+  std::string description() const { return description_; }
+
+ private:
+  const body::Body& body_;
+  bool cell_;
+  std::vector<std::pair<std::int32_t, double>> site_;
+  std::unique_ptr<LinearisedFamilies> lin_;
+  std::size_t representative_ = 0;
+  std::string description_;
+};
+
+}  // namespace pdcg::dispersion
