@@ -249,3 +249,10 @@ TEST(PotentialsBonds, BondsWithPairStyleZero) {
                            "bond_coeff 1 100.0 1.05\nspecial_bonds lj/coul 0 1 1\n";
   compare(cmds, chains(4, 1.5599, 0.05, 1, 55));
 }
+
+TEST(PotentialsEAM, StronglyCompressedAndStretched) {
+  // far from equilibrium: other spline intervals, short distances (r·rdr near the table start)
+  const std::string cmds = "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n";
+  compare(cmds, fcc(4, 4, 4, 3.615 * 0.72, 0.05, 1, 43));
+  compare(cmds, fcc(3, 3, 3, 3.615 * 1.25, 0.05, 1, 44));
+}
