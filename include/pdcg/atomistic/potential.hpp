@@ -42,10 +42,12 @@ struct PotentialSpec {
   int ntypes = 0;  ///< number of atom types (from masses/coefficients or the data file)
   std::string pair_style;  ///< e.g. "lj/cut", "eam/alloy", "zero", "tersoff"; empty = none
   std::vector<std::string> pair_style_args;
+  long pair_style_line = 0;  ///< line of the pair_style command in `source` (0 = none)
   std::vector<CoeffLine> pair_coeff;
   std::vector<std::string> pair_modify;  ///< words of `pair_modify` (e.g. "shift", "yes", "mix", "arithmetic")
   std::string bond_style;                ///< e.g. "harmonic", "fene"; empty = none
   std::vector<std::string> bond_style_args;
+  long bond_style_line = 0;  ///< line of the bond_style command in `source` (0 = none)
   std::vector<CoeffLine> bond_coeff;
   std::array<double, 3> special_lj{0.0, 0.0, 0.0};    ///< special_bonds lj 1-2, 1-3, 1-4 (LAMMPS default 0 0 0)
   std::array<double, 3> special_coul{0.0, 0.0, 0.0};  ///< special_bonds coul
@@ -79,6 +81,9 @@ class Potential {
   virtual double force_state(const FamilyState& family, double* t) const = 0;
   /// True when ψ_k = ½ Σ_j φ(r_kj) with no many-body term (bond-based PD).
   virtual bool pairwise() const { return false; }
+  /// Masses the potential itself sets per atom type (EAM files carry them; LAMMPS's
+  /// pair_coeff sets them): index t = 1..ntypes, NaN where unset; empty if none.
+  virtual std::vector<double> type_masses() const { return {}; }
 };
 
 }  // namespace pdcg::atomistic

@@ -1,0 +1,326 @@
+#include "pdcg/atomistic/lammps_engine.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/config.hpp"
+#include "pdcg/core/error.hpp"
+
+#if PDCG_WITH_LAMMPS
+#include <library.h>
+#endif
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pdcg::atomistic {
+
+struct LammpsEngine::Impl {
+  PotentialSpec spec;
+  mutable std::vector<std::string> commands;
+};
+
+namespace {
+
+std::string join(const std::vector<std::string>& w) {
+  std::string s;
+  for (const auto& x : w) s += (s.empty() ? "" : " ") + x;
+  return s;
+}
+
+std::string g17(double v) { return fmt::format("{:.17g}", v); }
+
+enum class AtomLine { atomic, charge, bond, full };
+
+AtomLine atom_line_of(const PotentialSpec& spec) {
+  const std::string& s = spec.atom_style;
+  if (s == "atomic") return AtomLine::atomic;
+  if (s == "charge") return AtomLine::charge;
+  if (s == "bond" || s == "angle" || s == "molecular") return AtomLine::bond;
+  if (s == "full") return AtomLine::full;
+  throw InputError("atom_style not supported by the embedded LAMMPS driver")
+      .source(spec.source)
+      .key("atom_style")
+      .value(s)
+      .expected("atomic, charge, bond, angle, molecular or full");
+}
+
+/// The potential commands rebuilt from the spec, with potential files resolved.
+std::vector<std::string> potential_commands(const PotentialSpec& spec) {
+  std::vector<std::string> cmds;
+  for (int t = 1; t < static_cast<int>(spec.type_mass.size()); ++t)
+    if (!std::isnan(spec.type_mass[static_cast<std::size_t>(t)]))
+      cmds.push_back(fmt::format("mass {} {}", t, g17(spec.type_mass[static_cast<std::size_t>(t)])));
+  if (!spec.pair_style.empty()) {
+    cmds.push_back(join({"pair_style", spec.pair_style}) + (spec.pair_style_args.empty() ? "" : " " + join(spec.pair_style_args)));
+    for (const auto& c : spec.pair_coeff) {
+      std::vector<std::string> args = c.args;
+      const std::string file = coeff_file_argument(spec, c);
+      if (!file.empty())
+        for (auto& a : args)
+          if (a == file) {
+            a = find_potential_file(file).value_or(file);
+            break;
+          }
+      cmds.push_back("pair_coeff " + c.i + " " + c.j + (args.empty() ? "" : " " + join(args)));
+    }
+    if (!spec.pair_modify.empty()) cmds.push_back("pair_modify " + join(spec.pair_modify));
+  }
+  if (!spec.bond_style.empty()) {
+    cmds.push_back("bond_style " + spec.bond_style + (spec.bond_style_args.empty() ? "" : " " + join(spec.bond_style_args)));
+    for (const auto& c : spec.bond_coeff) cmds.push_back("bond_coeff " + c.i + (c.args.empty() ? "" : " " + join(c.args)));
+  }
+  if (!spec.bond_style.empty())
+    cmds.push_back(fmt::format("special_bonds lj {} {} {} coul {} {} {}", g17(spec.special_lj[0]), g17(spec.special_lj[1]),
+                               g17(spec.special_lj[2]), g17(spec.special_coul[0]), g17(spec.special_coul[1]),
+                               g17(spec.special_coul[2])));
+  return cmds;
+}
+
+}  // namespace
+
+LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>()) {
+  require_supported_styles(spec);
+#if !PDCG_WITH_LAMMPS
+  throw InputError("embedded LAMMPS is not available in this build")
+      .source(spec.source)
+      .key("pair_style")
+      .value(spec.pair_style)
+      .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
+#else
+  atom_line_of(spec);
+  for (const auto& c : spec.pair_coeff) {
+    const std::string file = coeff_file_argument(spec, c);
+    if (!file.empty() && !find_potential_file(file))
+      throw InputError("potential file not found")
+          .source(spec.source)
+          .line(c.line_number)
+          .key("pair_coeff")
+          .value(file)
+          .expected(std::string("a readable file: the path as given, or its name in $LAMMPS_POTENTIALS or ") +
+                    PDCG_LAMMPS_POTENTIALS_DIR);
+  }
+  // Native styles: validate coefficients with pdcg's own checks first (LAMMPS would abort).
+  const bool native_pair = spec.pair_style.empty() || native_pair_style(spec.pair_style);
+  const bool native_bond = spec.bond_style.empty() || native_bond_style(spec.bond_style);
+  if (native_pair && native_bond && spec.ntypes > 0) (void)make_potential(spec);
+  // Styles this liblammps knows (checked on a throw-away instance).
+  {
+#ifdef _OPENMP
+    const int threads = omp_get_max_threads();
+#endif
+    const char* args[] = {"pdcg", "-log", "none", "-screen", "none", "-nocite"};
+    void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    if (!lmp) throw InputError("liblammps failed to start").fix("check the LAMMPS installation");
+    auto missing = [&](const char* category, const std::string& style) {
+      return !style.empty() && !lammps_has_style(lmp, category, style.c_str());
+    };
+    std::string bad_pair;
+    if (missing("pair", spec.pair_style)) bad_pair = spec.pair_style;
+    if (spec.pair_style.rfind("hybrid", 0) == 0)
+      for (const auto& a : spec.pair_style_args)
+        if (!a.empty() && !std::isdigit(static_cast<unsigned char>(a[0])) && a != "scale" && missing("pair", a)) {
+          // hybrid arguments are sub-style names and their numeric settings
+          bad_pair = a;
+        }
+    const bool bad_bond = missing("bond", spec.bond_style);
+    lammps_close(lmp);
+    if (!bad_pair.empty())
+      throw InputError("pair style unknown to the embedded LAMMPS")
+          .source(spec.source)
+          .line(spec.pair_style_line)
+          .key("pair_style")
+          .value(bad_pair)
+          .expected("a style of this LAMMPS build (lmp -h lists them)")
+          .fix("check the spelling, or use a LAMMPS built with the package providing it");
+    if (bad_bond)
+      throw InputError("bond style unknown to the embedded LAMMPS")
+          .source(spec.source)
+          .line(spec.bond_style_line)
+          .key("bond_style")
+          .value(spec.bond_style)
+          .expected("a style of this LAMMPS build (lmp -h lists them)");
+  }
+  impl_->spec = std::move(spec);
+#endif
+}
+
+LammpsEngine::~LammpsEngine() = default;
+LammpsEngine::LammpsEngine(LammpsEngine&&) noexcept = default;
+LammpsEngine& LammpsEngine::operator=(LammpsEngine&&) noexcept = default;
+
+const std::vector<std::string>& LammpsEngine::commands() const { return impl_->commands; }
+
+LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
+#if !PDCG_WITH_LAMMPS
+  (void)atoms;
+  throw InputError("embedded LAMMPS is not available in this build").fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
+#else
+  const PotentialSpec& spec = impl_->spec;
+  const std::size_t n = atoms.size();
+  const AtomLine style = atom_line_of(spec);
+  int ntypes = spec.ntypes;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int t = atoms.type.empty() ? 1 : atoms.type[i];
+    if (t < 1 || (spec.ntypes > 0 && t > spec.ntypes))
+      throw InputError("atom type outside the potential's types")
+          .key("type")
+          .value(std::to_string(t))
+          .expected("1.." + std::to_string(spec.ntypes))
+          .fix("the configuration and the potential file disagree on the atom types");
+    ntypes = std::max(ntypes, t);
+  }
+  const bool molecular = style == AtomLine::bond || style == AtomLine::full;
+  int nbondtypes = 0;
+  if (molecular) {
+    for (const auto& b : atoms.bonds) nbondtypes = std::max(nbondtypes, b.type);
+    for (const auto& c : spec.bond_coeff)
+      if (!c.i.empty() && std::isdigit(static_cast<unsigned char>(c.i[0]))) nbondtypes = std::max(nbondtypes, std::atoi(c.i.c_str()));
+  }
+
+  // Box: non-periodic directions widened to hold every atom (orthogonal boxes).
+  Box box = atoms.box;
+  const bool nonperiodic = !box.periodic[0] || !box.periodic[1] || !box.periodic[2];
+  if (nonperiodic && n > 0) {
+    Eigen::Vector3d lo = atoms.positions().rowwise().minCoeff(), hi = atoms.positions().rowwise().maxCoeff();
+    const double margin = std::max(0.05 * (hi - lo).maxCoeff(), 1e-3 * std::max(1.0, box.lengths().maxCoeff()));
+    if (box.triclinic()) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector3d s = box.to_fractional({atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]});
+        for (int k = 0; k < 3; ++k)
+          if (!box.periodic[static_cast<std::size_t>(k)] && (s[k] < 0.0 || s[k] >= 1.0))
+            throw InputError("atom outside a non-periodic direction of a triclinic box")
+                .key("box")
+                .expected("atoms inside the box along non-periodic directions")
+                .fix("enlarge the box along the non-periodic direction");
+      }
+    } else {
+      for (int k = 0; k < 3; ++k)
+        if (!box.periodic[static_cast<std::size_t>(k)]) {
+          box.lo[k] = std::min(box.lo[k], lo[k] - margin);
+          box.hi[k] = std::max(box.hi[k], hi[k] + margin);
+        }
+    }
+  }
+
+  // Temporary data file.
+  std::string tmpl = (std::filesystem::temp_directory_path() / "pdcg_lammps_XXXXXX").string();
+  const int fd = mkstemp(tmpl.data());
+  if (fd < 0) throw InputError("cannot create a temporary file for LAMMPS").value(tmpl).fix("check TMPDIR");
+  close(fd);
+  struct Remove {
+    std::string p;
+    ~Remove() { std::remove(p.c_str()); }
+  } remove_tmp{tmpl};
+  {
+    std::ofstream out(tmpl);
+    out << "pdcg configuration for embedded LAMMPS\n\n" << n << " atoms\n" << ntypes << " atom types\n";
+    if (molecular && nbondtypes > 0) out << atoms.bonds.size() << " bonds\n" << nbondtypes << " bond types\n";
+    out << g17(box.lo[0]) << ' ' << g17(box.hi[0]) << " xlo xhi\n"
+        << g17(box.lo[1]) << ' ' << g17(box.hi[1]) << " ylo yhi\n"
+        << g17(box.lo[2]) << ' ' << g17(box.hi[2]) << " zlo zhi\n";
+    if (box.triclinic()) out << g17(box.xy) << ' ' << g17(box.xz) << ' ' << g17(box.yz) << " xy xz yz\n";
+    out << "\nMasses\n\n";
+    for (int t = 1; t <= ntypes; ++t) {
+      double m = std::nan("");
+      if (static_cast<std::size_t>(t) < atoms.type_mass.size()) m = atoms.type_mass[static_cast<std::size_t>(t)];
+      if (std::isnan(m) && static_cast<std::size_t>(t) < spec.type_mass.size()) m = spec.type_mass[static_cast<std::size_t>(t)];
+      if (std::isnan(m)) m = 1.0;  // masses do not enter energies or forces
+      out << t << ' ' << g17(m) << '\n';
+    }
+    out << "\nAtoms\n\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      const int t = atoms.type.empty() ? 1 : atoms.type[i];
+      const long long mol = atoms.molecule.empty() ? 1 : static_cast<long long>(atoms.molecule[i]);
+      const double q = atoms.charge.empty() ? 0.0 : atoms.charge[i];
+      out << (i + 1) << ' ';
+      if (style == AtomLine::bond || style == AtomLine::full) out << mol << ' ';
+      out << t << ' ';
+      if (style == AtomLine::charge || style == AtomLine::full) out << g17(q) << ' ';
+      out << g17(atoms.x[3 * i]) << ' ' << g17(atoms.x[3 * i + 1]) << ' ' << g17(atoms.x[3 * i + 2]) << '\n';
+    }
+    if (molecular && nbondtypes > 0 && !atoms.bonds.empty()) {
+      // atom ids → 1-based index in the file
+      std::vector<std::pair<std::int64_t, std::int64_t>> id_index(n);
+      for (std::size_t i = 0; i < n; ++i) id_index[i] = {atoms.id[i], static_cast<std::int64_t>(i + 1)};
+      std::sort(id_index.begin(), id_index.end());
+      auto index_of = [&](std::int64_t id) {
+        auto it = std::lower_bound(id_index.begin(), id_index.end(), std::make_pair(id, std::int64_t{0}));
+        if (it == id_index.end() || it->first != id)
+          throw InputError("bond names an atom id that is not in the configuration").key("Bonds").value(std::to_string(id));
+        return it->second;
+      };
+      out << "\nBonds\n\n";
+      std::size_t k = 0;
+      for (const auto& b : atoms.bonds) out << ++k << ' ' << b.type << ' ' << index_of(b.atom1) << ' ' << index_of(b.atom2) << '\n';
+    }
+    if (!out) throw InputError("cannot write the temporary LAMMPS data file").value(tmpl);
+  }
+
+  std::vector<std::string>& cmds = impl_->commands;
+  cmds.clear();
+  cmds.push_back("units " + std::string(to_string(spec.units)));
+  cmds.push_back("atom_style " + spec.atom_style);
+  cmds.push_back("atom_modify map array sort 0 0.0");
+  cmds.push_back(fmt::format("boundary {} {} {}", box.periodic[0] ? 'p' : 'f', box.periodic[1] ? 'p' : 'f', box.periodic[2] ? 'p' : 'f'));
+  if (box.triclinic()) cmds.push_back("box tilt large");
+  cmds.push_back("read_data " + tmpl);
+  for (auto& c : potential_commands(spec)) cmds.push_back(std::move(c));
+  cmds.push_back("compute pdcg_pe all pe/atom");
+  cmds.push_back("compute pdcg_pesum all reduce sum c_pdcg_pe");
+  cmds.push_back("thermo_style custom step pe c_pdcg_pesum");
+  cmds.push_back("thermo_modify norm no");
+  cmds.push_back("run 0 post no");
+
+#ifdef _OPENMP
+  const int threads = omp_get_max_threads();
+#endif
+  const char* args[] = {"pdcg", "-log", "none", "-screen", "none", "-nocite"};
+  void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#endif
+  if (!lmp) throw InputError("liblammps failed to start").fix("check the LAMMPS installation");
+  struct Close {
+    void* h;
+    ~Close() { lammps_close(h); }
+  } closer{lmp};
+  for (const auto& c : cmds) lammps_command(lmp, c.c_str());
+
+  const int nlocal = lammps_extract_setting(lmp, "nlocal");
+  if (nlocal != static_cast<int>(n))
+    throw InputError("LAMMPS lost atoms").value(std::to_string(nlocal) + " of " + std::to_string(n)).fix("check the box and periodicity");
+  const int tagsize = lammps_extract_setting(lmp, "tagint");
+  void* tag = lammps_extract_atom(lmp, "id");
+  auto** f = static_cast<double**>(lammps_extract_atom(lmp, "f"));
+  auto* pe = static_cast<double*>(lammps_extract_compute(lmp, "pdcg_pe", LMP_STYLE_ATOM, LMP_TYPE_VECTOR));
+  LammpsResult r;
+  r.energy.assign(n, 0.0);
+  r.force.assign(3 * n, 0.0);
+  for (int i = 0; i < nlocal; ++i) {
+    const std::int64_t id = tagsize == 8 ? static_cast<std::int64_t*>(tag)[i] : static_cast<std::int32_t*>(tag)[i];
+    const auto k = static_cast<std::size_t>(id - 1);
+    r.energy[k] = pe[i];
+    for (int d = 0; d < 3; ++d) r.force[3 * k + static_cast<std::size_t>(d)] = f[i][d];
+  }
+  for (double e : r.energy) r.total_energy += e;
+  return r;
+#endif
+}
+
+}  // namespace pdcg::atomistic

@@ -1,0 +1,577 @@
+// Native potentials: pointwise laws (pair, bond, EAM tables) separate from the family loops.
+#include "pdcg/atomistic/potentials.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "eam_tables.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/core/error.hpp"
+#include "pdcg/core/parse.hpp"
+
+namespace pdcg::atomistic {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+InputError coeff_error(const PotentialSpec& spec, const CoeffLine& c, std::string_view cmd, std::string problem) {
+  InputError e(std::move(problem));
+  e.source(spec.source).line(c.line_number).key(cmd);
+  return e;
+}
+
+double number(const PotentialSpec& spec, const CoeffLine& c, std::size_t k, std::string_view field,
+              std::string_view cmd = "pair_coeff") {
+  const std::string key = std::string(cmd) + " " + std::string(field);
+  return parse_double(c.args[k], {spec.source, c.line_number, key});
+}
+
+// ---------------------------------------------------------------------------------------
+// Pair laws: coefficients per type pair; eval gives φ (shifted) and fpair = −φ'(r)/r, both
+// without the special factor, with LAMMPS's operation order.
+
+struct LJCut {
+  struct Coeff {
+    double cutsq = 0, lj1 = 0, lj2 = 0, lj3 = 0, lj4 = 0, offset = 0;
+  };
+  static void eval(const Coeff& c, double rsq, double& e, double& fpair) {
+    const double r2inv = 1.0 / rsq;
+    const double r6inv = r2inv * r2inv * r2inv;
+    const double forcelj = r6inv * (c.lj1 * r6inv - c.lj2);
+    fpair = forcelj * r2inv;
+    e = r6inv * (c.lj3 * r6inv - c.lj4) - c.offset;
+  }
+};
+
+struct Morse {
+  struct Coeff {
+    double cutsq = 0, d0 = 0, alpha = 0, r0 = 0, morse1 = 0, offset = 0;
+  };
+  static void eval(const Coeff& c, double rsq, double& e, double& fpair) {
+    const double r = std::sqrt(rsq);
+    const double dr = r - c.r0;
+    const double dexp = std::exp(-c.alpha * dr);
+    fpair = c.morse1 * (dexp * dexp - dexp) / r;
+    e = c.d0 * (dexp * dexp - 2.0 * dexp) - c.offset;
+  }
+};
+
+struct Zero {
+  struct Coeff {
+    double cutsq = 0;
+  };
+  static void eval(const Coeff&, double, double& e, double& fpair) { e = fpair = 0.0; }
+};
+
+enum class Mix { geometric, arithmetic, sixthpower };
+
+// Pair::mix_energy / Pair::mix_distance
+double mix_energy(Mix m, double eps1, double eps2, double sig1, double sig2) {
+  if (m == Mix::sixthpower)
+    return (2.0 * std::sqrt(eps1 * eps2) * std::pow(sig1, 3.0) * std::pow(sig2, 3.0) /
+            (std::pow(sig1, 6.0) + std::pow(sig2, 6.0)));
+  return std::sqrt(eps1 * eps2);
+}
+double mix_distance(Mix m, double sig1, double sig2) {
+  if (m == Mix::geometric) return std::sqrt(sig1 * sig2);
+  if (m == Mix::arithmetic) return (0.5 * (sig1 + sig2));
+  return std::pow((0.5 * (std::pow(sig1, 6.0) + std::pow(sig2, 6.0))), 1.0 / 6.0);
+}
+
+struct Modify {
+  bool shift = false;
+  Mix mix = Mix::geometric;
+};
+Modify pair_modify(const PotentialSpec& spec) {
+  Modify m;
+  const auto& w = spec.pair_modify;
+  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
+    if (w[k] == "shift") m.shift = w[k + 1] == "yes";
+    if (w[k] == "mix") m.mix = w[k + 1] == "arithmetic" ? Mix::arithmetic : w[k + 1] == "sixthpower" ? Mix::sixthpower : Mix::geometric;
+  }
+  return m;
+}
+
+/// Per type pair table, symmetric, (ntypes+1)² entries.
+template <class C>
+struct TypeTable {
+  int n = 0;
+  std::vector<C> v;
+  std::vector<char> set;
+  explicit TypeTable(int ntypes = 0) : n(ntypes), v(static_cast<std::size_t>((ntypes + 1) * (ntypes + 1))), set(v.size(), 0) {}
+  C& operator()(int i, int j) { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
+  const C& operator()(int i, int j) const { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
+  char& is_set(int i, int j) { return set[static_cast<std::size_t>(i * (n + 1) + j)]; }
+};
+
+double global_cutoff(const PotentialSpec& spec, std::string_view style) {
+  if (spec.pair_style_args.size() < 1)
+    throw InputError("pair_style needs a global cutoff")
+        .source(spec.source)
+        .line(spec.pair_style_line)
+        .key("pair_style")
+        .value(spec.pair_style)
+        .expected(std::string("pair_style ") + std::string(style) + " CUTOFF");
+  const double rc = parse_double(spec.pair_style_args[0], {spec.source, spec.pair_style_line, "pair_style cutoff"});
+  if (!(rc > 0.0))
+    throw InputError("pair_style cutoff must be positive")
+        .source(spec.source)
+        .line(spec.pair_style_line)
+        .key("pair_style")
+        .value(spec.pair_style_args[0])
+        .expected("a positive distance");
+  return rc;
+}
+
+/// Loops over pair_coeff I J ranges as LAMMPS does: i in [ilo,ihi], j in [max(jlo,i), jhi].
+template <class F>
+void for_pairs(const PotentialSpec& spec, const CoeffLine& c, F&& f) {
+  int ilo, ihi, jlo, jhi;
+  parse_type_range(c.i, spec.ntypes, ilo, ihi, spec.source, c.line_number, "pair_coeff");
+  parse_type_range(c.j, spec.ntypes, jlo, jhi, spec.source, c.line_number, "pair_coeff");
+  int count = 0;
+  for (int i = ilo; i <= ihi; ++i)
+    for (int j = std::max(jlo, i); j <= jhi; ++j) {
+      f(i, j);
+      ++count;
+    }
+  if (count == 0)
+    throw InputError("pair_coeff sets no type pair").source(spec.source).line(c.line_number).key("pair_coeff").value(c.line).expected("I <= J");
+}
+
+void check_args(const PotentialSpec& spec, const CoeffLine& c, std::size_t lo, std::size_t hi, std::string_view usage) {
+  if (c.args.size() < lo || c.args.size() > hi)
+    throw coeff_error(spec, c, "pair_coeff", "wrong number of coefficients").value(c.line).expected(usage);
+}
+
+void require_all_set(const PotentialSpec& spec, const std::vector<char>& diag_set, std::string_view style) {
+  for (int t = 1; t <= spec.ntypes; ++t)
+    if (!diag_set[static_cast<std::size_t>(t)])
+      throw InputError("pair coefficients missing for an atom type")
+          .source(spec.source)
+          .key("pair_coeff")
+          .value(std::to_string(t) + " " + std::to_string(t))
+          .expected(std::string("a pair_coeff line for every type (") + std::string(style) + ")")
+          .fix("add 'pair_coeff " + std::to_string(t) + " " + std::to_string(t) + " …'");
+}
+
+TypeTable<LJCut::Coeff> build_lj(const PotentialSpec& spec, double& cutmax) {
+  const int n = spec.ntypes;
+  const double cut_global = global_cutoff(spec, "lj/cut");
+  const Modify mod = pair_modify(spec);
+  TypeTable<double> eps(n), sig(n), cut(n);
+  for (const auto& c : spec.pair_coeff) {
+    check_args(spec, c, 2, 3, "pair_coeff I J EPSILON SIGMA [CUTOFF]");
+    const double e = number(spec, c, 0, "epsilon"), s = number(spec, c, 1, "sigma");
+    const double rc = c.args.size() == 3 ? number(spec, c, 2, "cutoff") : cut_global;
+    for_pairs(spec, c, [&](int i, int j) {
+      eps(i, j) = e;
+      sig(i, j) = s;
+      cut(i, j) = rc;
+      eps.is_set(i, j) = 1;
+    });
+  }
+  std::vector<char> diag(static_cast<std::size_t>(n + 1), 0);
+  for (int t = 1; t <= n; ++t) diag[static_cast<std::size_t>(t)] = eps.is_set(t, t);
+  require_all_set(spec, diag, "lj/cut");
+  TypeTable<LJCut::Coeff> out(n);
+  cutmax = 0.0;
+  for (int i = 1; i <= n; ++i)
+    for (int j = i; j <= n; ++j) {
+      // PairLJCut::init_one
+      if (!eps.is_set(i, j)) {
+        eps(i, j) = mix_energy(mod.mix, eps(i, i), eps(j, j), sig(i, i), sig(j, j));
+        sig(i, j) = mix_distance(mod.mix, sig(i, i), sig(j, j));
+        cut(i, j) = mix_distance(mod.mix, cut(i, i), cut(j, j));
+      }
+      LJCut::Coeff c;
+      c.lj1 = 48.0 * eps(i, j) * std::pow(sig(i, j), 12.0);
+      c.lj2 = 24.0 * eps(i, j) * std::pow(sig(i, j), 6.0);
+      c.lj3 = 4.0 * eps(i, j) * std::pow(sig(i, j), 12.0);
+      c.lj4 = 4.0 * eps(i, j) * std::pow(sig(i, j), 6.0);
+      if (mod.shift && (cut(i, j) > 0.0)) {
+        const double ratio = sig(i, j) / cut(i, j);
+        c.offset = 4.0 * eps(i, j) * (std::pow(ratio, 12.0) - std::pow(ratio, 6.0));
+      } else {
+        c.offset = 0.0;
+      }
+      c.cutsq = cut(i, j) * cut(i, j);
+      out(i, j) = out(j, i) = c;
+      cutmax = std::max(cutmax, cut(i, j));
+    }
+  return out;
+}
+
+TypeTable<Morse::Coeff> build_morse(const PotentialSpec& spec, double& cutmax) {
+  const int n = spec.ntypes;
+  const double cut_global = global_cutoff(spec, "morse");
+  const Modify mod = pair_modify(spec);
+  TypeTable<Morse::Coeff> out(n);
+  for (const auto& c : spec.pair_coeff) {
+    check_args(spec, c, 3, 4, "pair_coeff I J D0 ALPHA R0 [CUTOFF]");
+    Morse::Coeff m;
+    m.d0 = number(spec, c, 0, "d0");
+    m.alpha = number(spec, c, 1, "alpha");
+    m.r0 = number(spec, c, 2, "r0");
+    const double rc = c.args.size() == 4 ? number(spec, c, 3, "cutoff") : cut_global;
+    m.cutsq = rc;  // holds the cutoff until init below
+    for_pairs(spec, c, [&](int i, int j) {
+      out(i, j) = m;
+      out.is_set(i, j) = 1;
+    });
+  }
+  cutmax = 0.0;
+  for (int i = 1; i <= n; ++i)
+    for (int j = i; j <= n; ++j) {
+      // PairMorse::init_one: no mixing
+      if (!out.is_set(i, j))
+        throw InputError("morse coefficients missing for a type pair (LAMMPS does not mix morse)")
+            .source(spec.source)
+            .key("pair_coeff")
+            .value(std::to_string(i) + " " + std::to_string(j))
+            .expected("a pair_coeff line for every type pair I <= J");
+      Morse::Coeff m = out(i, j);
+      const double rc = m.cutsq;
+      m.morse1 = 2.0 * m.d0 * m.alpha;
+      if (mod.shift) {
+        const double alpha_dr = -m.alpha * (rc - m.r0);
+        m.offset = m.d0 * (std::exp(2.0 * alpha_dr) - 2.0 * std::exp(alpha_dr));
+      } else {
+        m.offset = 0.0;
+      }
+      m.cutsq = rc * rc;
+      out(i, j) = out(j, i) = m;
+      cutmax = std::max(cutmax, rc);
+    }
+  return out;
+}
+
+TypeTable<Zero::Coeff> build_zero(const PotentialSpec& spec, double& cutmax) {
+  const int n = spec.ntypes;
+  const double cut_global = global_cutoff(spec, "zero");
+  const bool nocoeff = spec.pair_style_args.size() > 1 && spec.pair_style_args[1] == "nocoeff";
+  TypeTable<double> cut(n);
+  for (const auto& c : spec.pair_coeff) {
+    const double rc = (!nocoeff && c.args.size() >= 1) ? number(spec, c, 0, "cutoff") : cut_global;
+    for_pairs(spec, c, [&](int i, int j) {
+      cut(i, j) = rc;
+      cut.is_set(i, j) = 1;
+    });
+  }
+  std::vector<char> diag(static_cast<std::size_t>(n + 1), 0);
+  for (int t = 1; t <= n; ++t) diag[static_cast<std::size_t>(t)] = cut.is_set(t, t);
+  require_all_set(spec, diag, "zero");
+  TypeTable<Zero::Coeff> out(n);
+  cutmax = 0.0;
+  for (int i = 1; i <= n; ++i)
+    for (int j = i; j <= n; ++j) {
+      if (!cut.is_set(i, j)) cut(i, j) = mix_distance(Mix::geometric, cut(i, i), cut(j, j));
+      out(i, j).cutsq = out(j, i).cutsq = cut(i, j) * cut(i, j);
+      cutmax = std::max(cutmax, cut(i, j));
+    }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------
+// Bond laws: E_b(r) and fbond = −E_b'(r)/r (LAMMPS BondHarmonic / BondFENE).
+
+struct BondTable {
+  enum class Style { none, harmonic, fene, zero } style = Style::none;
+  struct Coeff {
+    double k = kNaN, r0 = kNaN, epsilon = 0, sigma = 0;
+  };
+  std::vector<Coeff> c;  // index 1..nbondtypes
+
+  bool active() const { return style != Style::none; }
+
+  /// Energy of one bond of type `bt` at squared length rsq; writes fbond.
+  double eval(int bt, double rsq, double& fbond) const {
+    if (bt < 1 || bt >= static_cast<int>(c.size())) {
+      fbond = kNaN;
+      return kNaN;  // bond type without coefficients: poisons the result visibly
+    }
+    const Coeff& b = c[static_cast<std::size_t>(bt)];
+    switch (style) {
+      case Style::harmonic: {
+        const double r = std::sqrt(rsq);
+        const double dr = r - b.r0;
+        const double rk = b.k * dr;
+        fbond = r > 0.0 ? -2.0 * rk / r : 0.0;
+        return rk * dr;
+      }
+      case Style::fene: {
+        constexpr double TWO_1_3 = 1.2599210498948732;
+        const double r0sq = b.r0 * b.r0;
+        double rlogarg = 1.0 - rsq / r0sq;
+        // LAMMPS warns ("FENE bond too long") and clamps; it aborts for rlogarg <= -3
+        if (rlogarg < 0.1) rlogarg = 0.1;
+        fbond = -b.k / rlogarg;
+        double sr6 = 0.0;
+        if (rsq < TWO_1_3 * b.sigma * b.sigma) {
+          const double sr2 = b.sigma * b.sigma / rsq;
+          sr6 = sr2 * sr2 * sr2;
+          fbond += 48.0 * b.epsilon * sr6 * (sr6 - 0.5) / rsq;
+        }
+        double ebond = -0.5 * b.k * r0sq * std::log(rlogarg);
+        if (rsq < TWO_1_3 * b.sigma * b.sigma) ebond += 4.0 * b.epsilon * sr6 * (sr6 - 1.0) + b.epsilon;
+        return ebond;
+      }
+      case Style::zero:
+        fbond = 0.0;
+        return 0.0;
+      case Style::none:
+        break;
+    }
+    fbond = 0.0;
+    return 0.0;
+  }
+
+  /// ψ += ½ E_b and t += ½ ∂E_b/∂Y = −½ fbond Y for every molecular bond of the family.
+  double add(const FamilyState& f, double* t) const {
+    if (!active() || !f.bond_type) return 0.0;
+    double psi = 0.0;
+    for (std::int64_t b = 0; b < f.size; ++b) {
+      const int bt = f.bond_type[b];
+      if (bt <= 0) continue;
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      double fbond;
+      psi += 0.5 * eval(bt, rsq, fbond);
+      const double s = -0.5 * fbond;
+      t[3 * b] += s * y[0];
+      t[3 * b + 1] += s * y[1];
+      t[3 * b + 2] += s * y[2];
+    }
+    return psi;
+  }
+};
+
+BondTable build_bonds(const PotentialSpec& spec) {
+  BondTable bt;
+  if (spec.bond_style.empty()) return bt;
+  using S = BondTable::Style;
+  if (spec.bond_style == "harmonic") bt.style = S::harmonic;
+  else if (spec.bond_style == "fene") bt.style = S::fene;
+  else if (spec.bond_style == "zero") bt.style = S::zero;
+  else
+    throw InputError("bond style has no native implementation")
+        .source(spec.source)
+        .line(spec.bond_style_line)
+        .key("bond_style")
+        .value(spec.bond_style)
+        .expected("harmonic, fene or zero")
+        .fix("evaluate this model through embedded LAMMPS (LammpsEngine)");
+  int maxtype = 1;
+  for (const auto& c : spec.bond_coeff) {
+    int lo, hi;
+    parse_type_range(c.i, 1 << 20, lo, hi, spec.source, c.line_number, "bond_coeff");
+    if (c.i.find('*') == std::string::npos || !c.i.ends_with('*')) maxtype = std::max(maxtype, hi);
+  }
+  bt.c.assign(static_cast<std::size_t>(maxtype + 1), {});
+  for (const auto& c : spec.bond_coeff) {
+    int lo, hi;
+    parse_type_range(c.i, maxtype, lo, hi, spec.source, c.line_number, "bond_coeff");
+    BondTable::Coeff k;
+    auto usage = [&](std::size_t n, std::string_view u) {
+      if (c.args.size() != n) throw coeff_error(spec, c, "bond_coeff", "wrong number of coefficients").value(c.line).expected(u);
+    };
+    if (bt.style == S::harmonic) {
+      usage(2, "bond_coeff N K R0");
+      k.k = number(spec, c, 0, "K", "bond_coeff");
+      k.r0 = number(spec, c, 1, "r0", "bond_coeff");
+    } else if (bt.style == S::fene) {
+      usage(4, "bond_coeff N K R0 EPSILON SIGMA");
+      k.k = number(spec, c, 0, "K", "bond_coeff");
+      k.r0 = number(spec, c, 1, "R0", "bond_coeff");
+      k.epsilon = number(spec, c, 2, "epsilon", "bond_coeff");
+      k.sigma = number(spec, c, 3, "sigma", "bond_coeff");
+    } else {
+      k.k = k.r0 = 0.0;
+    }
+    for (int t = lo; t <= hi; ++t) bt.c[static_cast<std::size_t>(t)] = k;
+  }
+  for (std::size_t t = 1; t < bt.c.size(); ++t)
+    if (std::isnan(bt.c[t].k))
+      throw InputError("bond coefficients missing for a bond type")
+          .source(spec.source)
+          .key("bond_coeff")
+          .value(std::to_string(t))
+          .expected("a bond_coeff line for every bond type")
+          .fix("add 'bond_coeff " + std::to_string(t) + " …'");
+  return bt;
+}
+
+std::string style_name(const PotentialSpec& spec) {
+  std::string s = spec.pair_style.empty() ? std::string("none") : spec.pair_style;
+  if (!spec.bond_style.empty()) s += " + bond " + spec.bond_style;
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------
+// Family loops
+
+template <class Law>
+class PairModel final : public Potential {
+ public:
+  PairModel(const PotentialSpec& spec, TypeTable<typename Law::Coeff> table, double cutoff, BondTable bonds)
+      : style_(style_name(spec)), ntypes_(spec.ntypes), table_(std::move(table)), cutoff_(cutoff), bonds_(std::move(bonds)) {}
+  std::string style() const override { return style_; }
+  double cutoff() const override { return cutoff_; }
+  int ntypes() const override { return ntypes_; }
+  bool pairwise() const override { return true; }
+
+  double force_state(const FamilyState& f, double* t) const override {
+    double psi = 0.0;
+    const int n1 = ntypes_ + 1;
+    const auto* row = table_.v.data() + f.type * n1;
+    for (std::int64_t b = 0; b < f.size; ++b) {
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      const double factor = f.pair_factor ? f.pair_factor[b] : 1.0;
+      const auto& c = row[f.neighbor_type[b]];
+      double s = 0.0;
+      if (factor != 0.0 && rsq < c.cutsq) {
+        double e, fpair;
+        Law::eval(c, rsq, e, fpair);
+        psi += 0.5 * factor * e;
+        s = -0.5 * factor * fpair;  // ½ φ'(r)/r
+      }
+      t[3 * b] = s * y[0];
+      t[3 * b + 1] = s * y[1];
+      t[3 * b + 2] = s * y[2];
+    }
+    return psi + bonds_.add(f, t);
+  }
+
+ private:
+  std::string style_;
+  int ntypes_;
+  TypeTable<typename Law::Coeff> table_;
+  double cutoff_;
+  BondTable bonds_;
+};
+
+class EamModel final : public Potential {
+ public:
+  EamModel(const PotentialSpec& spec, EamTables tables, BondTable bonds)
+      : style_(style_name(spec)), e_(std::move(tables)), bonds_(std::move(bonds)) {}
+  std::string style() const override { return style_; }
+  double cutoff() const override { return e_.cutmax; }
+  int ntypes() const override { return e_.ntypes; }
+  std::vector<double> type_masses() const override { return e_.type_mass; }
+
+  double force_state(const FamilyState& f, double* t) const override {
+    const int n1 = e_.ntypes + 1;
+    const int kt = f.type;
+    // pass 1: host density ρ̄_k = Σ_j ρ_{type(j)→type(k)}(r_kj)
+    double rho = 0.0;
+    for (std::int64_t b = 0; b < f.size; ++b) {
+      if (f.pair_factor && f.pair_factor[b] == 0.0) continue;  // LAMMPS excludes these pairs
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      if (rsq < e_.cutforcesq) {
+        const int jt = f.neighbor_type[b];
+        double p = std::sqrt(rsq) * e_.rdr + 1.0;
+        int m = static_cast<int>(p);
+        m = std::min(m, e_.nr - 1);
+        p -= m;
+        p = std::min(p, 1.0);
+        const double* coeff = e_.rhor_spline[static_cast<std::size_t>(e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
+                                  .data() + 7 * m;
+        rho += ((coeff[3] * p + coeff[4]) * p + coeff[5]) * p + coeff[6];
+      }
+    }
+    // embedding energy and F'(ρ̄) (linear beyond ρ_max)
+    double p = rho * e_.rdrho + 1.0;
+    int m = static_cast<int>(p);
+    m = std::max(1, std::min(m, e_.nrho - 1));
+    p -= m;
+    p = std::min(p, 1.0);
+    const double* coeff = e_.frho_spline[static_cast<std::size_t>(e_.type2frho[static_cast<std::size_t>(kt)])].data() + 7 * m;
+    const double fp = (coeff[0] * p + coeff[1]) * p + coeff[2];
+    double psi = ((coeff[3] * p + coeff[4]) * p + coeff[5]) * p + coeff[6];
+    if (rho > e_.rhomax) psi += fp * (rho - e_.rhomax);
+    // pass 2: t_kj = (F'_k ρ'_{j→k}(r) + ½ φ'(r)) Y/r, ψ_k += ½ φ(r)
+    for (std::int64_t b = 0; b < f.size; ++b) {
+      const double* y = f.bond + 3 * b;
+      double s = 0.0;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      if (rsq < e_.cutforcesq && !(f.pair_factor && f.pair_factor[b] == 0.0)) {
+        const int jt = f.neighbor_type[b];
+        const double r = std::sqrt(rsq);
+        double q = r * e_.rdr + 1.0;
+        int mm = static_cast<int>(q);
+        mm = std::min(mm, e_.nr - 1);
+        q -= mm;
+        q = std::min(q, 1.0);
+        const double* c1 = e_.rhor_spline[static_cast<std::size_t>(e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])].data() + 7 * mm;
+        const double rhojp = (c1[0] * q + c1[1]) * q + c1[2];
+        const double* c2 = e_.z2r_spline[static_cast<std::size_t>(e_.type2z2r[static_cast<std::size_t>(kt * n1 + jt)])].data() + 7 * mm;
+        const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
+        const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
+        const double recip = 1.0 / r;
+        const double phi = z2 * recip;
+        const double phip = z2p * recip - phi * recip;
+        psi += 0.5 * phi;
+        s = (fp * rhojp + 0.5 * phip) * recip;
+      }
+      t[3 * b] = s * y[0];
+      t[3 * b + 1] = s * y[1];
+      t[3 * b + 2] = s * y[2];
+    }
+    return psi + bonds_.add(f, t);
+  }
+
+ private:
+  std::string style_;
+  EamTables e_;
+  BondTable bonds_;
+};
+
+}  // namespace
+
+std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
+  if (spec.ntypes <= 0)
+    throw InputError("number of atom types unknown")
+        .source(spec.source)
+        .key("ntypes")
+        .expected("pair_coeff/mass commands naming the types, or the data file's type count")
+        .fix("pass the configuration's number of atom types to read_potential_commands");
+  if (spec.pair_style.empty() && spec.bond_style.empty())
+    throw InputError("no pair_style and no bond_style").source(spec.source).expected("at least one interaction style");
+  BondTable bonds = build_bonds(spec);
+  const std::string& ps = spec.pair_style;
+  double cutmax = 0.0;
+  if (ps == "lj/cut") {
+    auto table = build_lj(spec, cutmax);
+    return std::make_unique<PairModel<LJCut>>(spec, std::move(table), cutmax, std::move(bonds));
+  }
+  if (ps == "morse") {
+    auto table = build_morse(spec, cutmax);
+    return std::make_unique<PairModel<Morse>>(spec, std::move(table), cutmax, std::move(bonds));
+  }
+  if (ps == "zero") {
+    auto table = build_zero(spec, cutmax);
+    return std::make_unique<PairModel<Zero>>(spec, std::move(table), cutmax, std::move(bonds));
+  }
+  if (ps.empty()) {
+    // bonds only: no pair interaction; cutoff 0 (families hold the molecular bonds only)
+    TypeTable<Zero::Coeff> table(spec.ntypes);
+    return std::make_unique<PairModel<Zero>>(spec, std::move(table), 0.0, std::move(bonds));
+  }
+  if (ps == "eam" || ps == "eam/alloy" || ps == "eam/fs")
+    return std::make_unique<EamModel>(spec, build_eam_tables(spec), std::move(bonds));
+  require_supported_styles(spec);
+  throw InputError("pair style has no native implementation (no force states)")
+      .source(spec.source)
+      .line(spec.pair_style_line)
+      .key("pair_style")
+      .value(ps)
+      .expected("lj/cut, morse, zero, eam, eam/alloy or eam/fs")
+      .fix("evaluate per-atom energies and forces through embedded LAMMPS (LammpsEngine); PD force "
+           "states for many-body fallback styles are not available yet");
+}
+
+}  // namespace pdcg::atomistic
