@@ -371,7 +371,11 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
             .line(c.line_number)
             .key("pair_coeff")
             .value(el)
-            .expected("one of the file's elements");
+            .expected("one of the file's elements:" + [&] {
+              std::string l;
+              for (const auto& e : s.elements) l += " " + e;
+              return l;
+            }());
       map[static_cast<std::size_t>(i)] = j;
       t.type_mass[static_cast<std::size_t>(i)] = s.mass[static_cast<std::size_t>(j)];
     }

@@ -22,8 +22,10 @@ InputError coeff_error(const PotentialSpec& spec, const CoeffLine& c, std::strin
   return e;
 }
 
-double number(const PotentialSpec& spec, const CoeffLine& c, std::size_t k, std::string_view field) {
-  return parse_double(c.args[k], {spec.source, c.line_number, field});
+double number(const PotentialSpec& spec, const CoeffLine& c, std::size_t k, std::string_view field,
+              std::string_view cmd = "pair_coeff") {
+  const std::string key = std::string(cmd) + " " + std::string(field);
+  return parse_double(c.args[k], {spec.source, c.line_number, key});
 }
 
 // ---------------------------------------------------------------------------------------
@@ -377,14 +379,14 @@ BondTable build_bonds(const PotentialSpec& spec) {
     };
     if (bt.style == S::harmonic) {
       usage(2, "bond_coeff N K R0");
-      k.k = number(spec, c, 0, "K");
-      k.r0 = number(spec, c, 1, "r0");
+      k.k = number(spec, c, 0, "K", "bond_coeff");
+      k.r0 = number(spec, c, 1, "r0", "bond_coeff");
     } else if (bt.style == S::fene) {
       usage(4, "bond_coeff N K R0 EPSILON SIGMA");
-      k.k = number(spec, c, 0, "K");
-      k.r0 = number(spec, c, 1, "R0");
-      k.epsilon = number(spec, c, 2, "epsilon");
-      k.sigma = number(spec, c, 3, "sigma");
+      k.k = number(spec, c, 0, "K", "bond_coeff");
+      k.r0 = number(spec, c, 1, "R0", "bond_coeff");
+      k.epsilon = number(spec, c, 2, "epsilon", "bond_coeff");
+      k.sigma = number(spec, c, 3, "sigma", "bond_coeff");
     } else {
       k.k = k.r0 = 0.0;
     }

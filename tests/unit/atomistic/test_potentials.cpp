@@ -25,9 +25,13 @@ namespace {
 constexpr double kTol = 1e-10;
 
 void compare(const std::string& commands, const Atoms& atoms, double family_margin = 1.15) {
-  const PotentialSpec spec = read_potential_commands_from_string(commands, "test-potential");
+  // the configuration declares the type count (as a data file header does)
+  const int ntypes = *std::max_element(atoms.type.begin(), atoms.type.end());
+  const PotentialSpec spec = read_potential_commands_from_string(commands, "test-potential", ntypes);
   const auto pot = make_potential(spec);
-  const auto pd = pdcg::test::pd_evaluate(*pot, atoms, family_margin);
+  const bool bonded = !atoms.bonds.empty();
+  const auto pd = pdcg::test::pd_evaluate(*pot, atoms, family_margin, bonded ? &atoms.bonds : nullptr,
+                                          bonded ? spec.special_lj : std::array<double, 3>{1, 1, 1});
 #if PDCG_WITH_LAMMPS
   const LammpsEngine engine(spec);
   const LammpsResult ref = engine.evaluate(atoms);
@@ -173,4 +177,82 @@ TEST(PotentialsEAM, MassesComeFromTheFile) {
   // the file's header lines for Al and Cu (checked by hand: "13 26.982 …", "29 63.546 …")
   EXPECT_NEAR(m[1], 63.546, 0.01);
   EXPECT_NEAR(m[2], 26.982, 0.01);
+}
+
+// ---------------------------------------------------------------------------------------
+// Molecular bonds: chains of 4 beads inside each FCC cell (all four are nearest neighbours,
+// so 1-2, 1-3 and 1-4 partners all lie within the pair cutoff and the special factors
+// matter); the configuration is shifted and wrapped so that chains cross the boundaries.
+
+namespace {
+Atoms chains(int n, double a, double noise, int nbondtypes, unsigned seed, bool periodic = true) {
+  Atoms at = fcc(n, n, n, a, noise, 1, seed);
+  for (std::int64_t first = 1; first <= static_cast<std::int64_t>(at.size()); first += 4)
+    for (int k = 0; k < 3; ++k) at.bonds.push_back({1 + (k % nbondtypes), first + k, first + k + 1});
+  for (std::size_t i = 0; i < at.size(); ++i) at.type[i] = 1 + static_cast<int>(i % 4 == 0);
+  if (periodic) {
+    for (std::size_t i = 0; i < at.size(); ++i) {
+      Eigen::Vector3i image(0, 0, 0);
+      const Eigen::Vector3d x = at.box.wrap(Eigen::Vector3d(at.x[3 * i], at.x[3 * i + 1], at.x[3 * i + 2]) +
+                                                Eigen::Vector3d::Constant(0.3 * a),
+                                            image);
+      for (int k = 0; k < 3; ++k) at.x[3 * i + static_cast<std::size_t>(k)] = x[k];
+    }
+  } else {
+    at.box.periodic = {false, false, false};
+  }
+  return at;
+}
+
+const char* kFene = R"(
+units lj
+atom_style bond
+pair_style lj/cut 1.122462048309373
+pair_coeff * * 1.0 1.0
+pair_modify shift yes
+bond_style fene
+bond_coeff 1 30.0 1.5 1.0 1.0
+special_bonds fene
+)";
+
+const char* kHarmonic = R"(
+units lj
+atom_style molecular
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0
+pair_coeff 2 2 0.8 0.95
+bond_style harmonic
+bond_coeff 1 100.0 1.05
+bond_coeff 2 50.0 1.15
+special_bonds lj 0.0 0.5 0.8
+)";
+}  // namespace
+
+TEST(PotentialsBonds, FeneWithWcaAndSpecialBonds) {
+  Atoms a = chains(4, 1.5599, 0.04, 1, 51);
+  compare(kFene, a);
+  make_triclinic(a, 1.2, -0.8, 0.5);
+  compare(kFene, a);
+  compare(kFene, chains(3, 1.5599, 0.04, 1, 52, false));
+}
+
+TEST(PotentialsBonds, HarmonicTwoBondTypesFractionalSpecialFactors) {
+  Atoms a = chains(4, 1.5599, 0.04, 2, 53);
+  compare(kHarmonic, a);
+  make_triclinic(a, -1.0, 0.7, -0.4);
+  compare(kHarmonic, a);
+  compare(kHarmonic, chains(3, 1.5599, 0.04, 2, 54, false));
+}
+
+TEST(PotentialsBonds, BondsWithPairStyleZero) {
+  const std::string cmds = "units lj\natom_style bond\npair_style zero 1.3\npair_coeff * *\nbond_style harmonic\n"
+                           "bond_coeff 1 100.0 1.05\nspecial_bonds lj/coul 0 1 1\n";
+  compare(cmds, chains(4, 1.5599, 0.05, 1, 55));
+}
+
+TEST(PotentialsEAM, StronglyCompressedAndStretched) {
+  // far from equilibrium: other spline intervals, short distances (r·rdr near the table start)
+  const std::string cmds = "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n";
+  compare(cmds, fcc(4, 4, 4, 3.615 * 0.72, 0.05, 1, 43));
+  compare(cmds, fcc(3, 3, 3, 3.615 * 1.25, 0.05, 1, 44));
 }

@@ -1,0 +1,148 @@
+// Fallback styles through embedded LAMMPS, compared with the `lmp` executable run on the same
+// configuration (its dump of forces and pe/atom is the reference, parsed here by hand).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "pdcg/atomistic/lammps_engine.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/core/error.hpp"
+#include "pdcg_test.hpp"
+
+using namespace pdcg::atomistic;
+
+#if PDCG_WITH_LAMMPS
+namespace {
+
+/// Diamond-cubic Si, n³ cells of 8 atoms, perturbed.
+Atoms diamond(int n, double a, double noise, unsigned seed) {
+  Atoms at;
+  at.box.hi = {n * a, n * a, n * a};
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double basis[8][3] = {{0, 0, 0},       {0.5, 0.5, 0},     {0.5, 0, 0.5},     {0, 0.5, 0.5},
+                              {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25}, {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
+  std::int64_t id = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k)
+        for (const auto& b : basis) {
+          at.id.push_back(++id);
+          at.type.push_back(1);
+          at.x.insert(at.x.end(), {(i + b[0]) * a + noise * a * u(rng), (j + b[1]) * a + noise * a * u(rng),
+                                   (k + b[2]) * a + noise * a * u(rng)});
+        }
+  return at;
+}
+
+struct Reference {
+  std::vector<double> pe, f;
+};
+
+/// Runs `lmp` on a data file of `at` with the given potential lines, reads back its dump.
+Reference run_lmp(const Atoms& at, const std::string& potential_lines, const std::string& tag) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pdcg_lmp_" + tag);
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream d(dir / "conf.data");
+    d.precision(17);
+    d << "Si test\n\n" << at.size() << " atoms\n1 atom types\n"
+      << at.box.lo[0] << ' ' << at.box.hi[0] << " xlo xhi\n"
+      << at.box.lo[1] << ' ' << at.box.hi[1] << " ylo yhi\n"
+      << at.box.lo[2] << ' ' << at.box.hi[2] << " zlo zhi\n\nMasses\n\n1 28.0855\n\nAtoms\n\n";
+    for (std::size_t i = 0; i < at.size(); ++i)
+      d << at.id[i] << " 1 " << at.x[3 * i] << ' ' << at.x[3 * i + 1] << ' ' << at.x[3 * i + 2] << '\n';
+  }
+  {
+    std::ofstream in(dir / "in.run");
+    in << "units metal\natom_style atomic\nboundary p p p\nread_data " << (dir / "conf.data").string() << "\n"
+       << potential_lines << "compute pe all pe/atom\n"
+       << "dump d all custom 1 " << (dir / "out.dump").string() << " id fx fy fz c_pe\n"
+       << "dump_modify d format float %.17g sort id\nrun 0\n";
+  }
+  const std::string cmd = "cd " + dir.string() + " && lmp -in in.run -log none -screen none -nocite > lmp.out 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << "lmp failed, see " << dir / "lmp.out";
+  Reference r;
+  r.pe.assign(at.size(), 0.0);
+  r.f.assign(3 * at.size(), 0.0);
+  std::ifstream dump(dir / "out.dump");
+  std::string line;
+  bool atoms = false;
+  std::size_t read = 0;
+  while (std::getline(dump, line)) {
+    if (line.rfind("ITEM: ATOMS", 0) == 0) {
+      atoms = true;
+      continue;
+    }
+    if (!atoms) continue;
+    std::istringstream ss(line);
+    long id;
+    double fx, fy, fz, pe;
+    ss >> id >> fx >> fy >> fz >> pe;
+    const auto k = static_cast<std::size_t>(id - 1);
+    r.f[3 * k] = fx;
+    r.f[3 * k + 1] = fy;
+    r.f[3 * k + 2] = fz;
+    r.pe[k] = pe;
+    ++read;
+  }
+  EXPECT_EQ(read, at.size());
+  return r;
+}
+
+}  // namespace
+
+TEST(LammpsEngine, TersoffFallbackMatchesLmpDump) {
+  const std::string lines = "pair_style tersoff\npair_coeff * * Si.tersoff Si\n";
+  const Atoms at = diamond(3, 5.431, 0.03, 61);
+  const PotentialSpec spec = read_potential_commands_from_string("units metal\n" + lines, "si-tersoff.in", 1);
+  const LammpsEngine engine(spec);
+  const LammpsResult r = engine.evaluate(at);
+  // lmp resolves "Si.tersoff" through $LAMMPS_POTENTIALS; give it the resolved path
+  const std::string resolved = "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n";
+  const Reference ref = run_lmp(at, resolved, "tersoff");
+  // Same LAMMPS code on the same (17-digit) positions; only the I/O differs: round-off.
+  EXPECT_LT(pdcg::test::max_norm_relative_error(r.force, ref.f), 1e-12);
+  EXPECT_LT(pdcg::test::max_norm_relative_error(r.energy, ref.pe), 1e-12);
+  double fmax = 0;
+  for (double v : ref.f) fmax = std::max(fmax, std::abs(v));
+  EXPECT_GT(fmax, 0.1);  // perturbed: forces are not trivially zero
+}
+
+TEST(LammpsEngine, StillingerWeberFallbackMatchesLmpDump) {
+  const std::string lines = "pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n";
+  const Atoms at = diamond(3, 5.431, 0.03, 62);
+  const LammpsEngine engine(read_potential_commands_from_string("units metal\n" + lines, "si-sw.in", 1));
+  const LammpsResult r = engine.evaluate(at);
+  const Reference ref = run_lmp(at, lines, "sw");
+  // Same LAMMPS code on the same positions: round-off.
+  EXPECT_LT(pdcg::test::max_norm_relative_error(r.force, ref.f), 1e-12);
+  EXPECT_LT(pdcg::test::max_norm_relative_error(r.energy, ref.pe), 1e-12);
+}
+
+TEST(LammpsEngine, UnknownStyleIsAnInputErrorNotAnAbort) {
+  const auto spec = read_potential_commands_from_string("pair_style no/such/style 2.0\npair_coeff * * 1 1\n", "bad.in", 1);
+  try {
+    LammpsEngine e(spec);
+    FAIL() << "expected InputError";
+  } catch (const pdcg::InputError& e) {
+    EXPECT_EQ(e.line_number(), 1);
+    EXPECT_EQ(e.bad_value(), "no/such/style");
+  }
+}
+
+TEST(LammpsEngine, AtomTypeBeyondPotentialIsAnInputError) {
+  const auto spec = read_potential_commands_from_string("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1 1\n", "t.in");
+  const LammpsEngine engine(spec);
+  Atoms at = diamond(1, 3.0, 0.0, 1);
+  at.type[3] = 2;
+  EXPECT_THROW(engine.evaluate(at), pdcg::InputError);
+}
+#endif  // PDCG_WITH_LAMMPS
