@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/units.hpp"
 
 namespace pdcg::dispersion {
 
@@ -100,8 +101,9 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
 }
 
 Eigen::VectorXd BodyDispersion::omega(const Eigen::Vector3d& kappa) const {
-  if (cell_) return cell_omega(*lin_, body_.mass, kappa);
-  return point_omega(*lin_, site_, body_.mass, kappa);
+  const double mvv2e = unit_constants(body_.units).mvv2e;
+  if (cell_) return cell_omega(*lin_, body_.mass, kappa, mvv2e);
+  return point_omega(*lin_, site_, body_.mass, kappa, mvv2e);
 }
 
 }  // namespace pdcg::dispersion

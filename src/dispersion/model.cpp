@@ -70,7 +70,7 @@ Eigen::Matrix3d block(std::span<const double> K, std::int64_t n, std::int64_t b,
 }  // namespace
 
 Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::pair<std::int32_t, double>> atoms,
-                            std::span<const double> mass, const Eigen::Vector3d& kappa) {
+                            std::span<const double> mass, const Eigen::Vector3d& kappa, double mvv2e) {
   const auto& fam = lin.families();
   Eigen::Matrix3cd D = Eigen::Matrix3cd::Zero();
   double M = 0.0;
@@ -98,13 +98,14 @@ Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::
     M += w * mass[kk];
   }
   // D is Hermitian up to round-off; symmetrise before the eigen solve.
-  const Eigen::Matrix3cd H = 0.5 * (D + D.adjoint()) / M;
+  const Eigen::Matrix3cd H = 0.5 * (D + D.adjoint()) / (M * mvv2e);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3cd> es(H, Eigen::EigenvaluesOnly);
   const Eigen::Vector3d w2 = es.eigenvalues();
   return {signed_sqrt(w2[0]), signed_sqrt(w2[1]), signed_sqrt(w2[2])};
 }
 
-Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa) {
+Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa,
+                           double mvv2e) {
   const auto& fam = lin.families();
   const auto N = static_cast<Eigen::Index>(fam.points());
   Eigen::MatrixXcd D = Eigen::MatrixXcd::Zero(3 * N, 3 * N);
@@ -136,7 +137,8 @@ Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double
   }
   for (Eigen::Index p = 0; p < N; ++p)
     for (Eigen::Index q = 0; q < N; ++q)
-      D.block<3, 3>(3 * p, 3 * q) /= std::sqrt(mass[static_cast<std::size_t>(p)] * mass[static_cast<std::size_t>(q)]);
+      D.block<3, 3>(3 * p, 3 * q) /=
+          mvv2e * std::sqrt(mass[static_cast<std::size_t>(p)] * mass[static_cast<std::size_t>(q)]);
   const Eigen::MatrixXcd H = 0.5 * (D + D.adjoint());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> es(H, Eigen::EigenvaluesOnly);
   Eigen::VectorXd w(3 * N);

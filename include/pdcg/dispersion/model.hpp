@@ -48,11 +48,14 @@ class LinearisedFamilies {
 
 /// ω(κ) at one point made of weighted atoms (Bravais lattice assumption, see above).
 /// Returns the 3 frequencies in ascending order; a negative ω² (unstable mode) is returned as −√|ω²|.
+/// mvv2e converts mass·velocity² to energy (LAMMPS force->mvv2e: 1 in lj/si, 1.0364269e-4 in
+/// metal): ω² = eig(D)/(M·mvv2e), so ω is in inverse time units of the unit style.
 Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::pair<std::int32_t, double>> atoms,
-                            std::span<const double> mass, const Eigen::Vector3d& kappa);
+                            std::span<const double> mass, const Eigen::Vector3d& kappa, double mvv2e = 1.0);
 
 /// ω(κ) of a periodic cell with a basis: all 3N branches, ascending (same sign convention).
-Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa);
+Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa,
+                           double mvv2e = 1.0);
 
 /// A named high-symmetry point, in Cartesian reciprocal coordinates (units 1/length).
 struct SymmetryPoint {
