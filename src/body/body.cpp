@@ -67,6 +67,13 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
     for (std::size_t t = 1; t < spec.type_mass.size(); ++t)
       if (std::isnan(atoms.type_mass[t])) atoms.type_mass[t] = spec.type_mass[t];
   }
+  // masses the potential itself sets (EAM files) fill what is still missing
+  if (atoms.mass.empty()) {
+    const auto pm = potential->type_masses();
+    if (atoms.type_mass.size() < pm.size()) atoms.type_mass.resize(pm.size(), NAN);
+    for (std::size_t t = 1; t < pm.size(); ++t)
+      if (std::isnan(atoms.type_mass[t])) atoms.type_mass[t] = pm[t];
+  }
   const int ntypes = potential->ntypes();
   Body body;
   body.kind = BodyKind::delta;
@@ -100,6 +107,7 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
   }
   atomistic::FamilyOptions fo;
   fo.cutoff = options.cutoff > 0.0 ? options.cutoff : potential->cutoff();
+  if (!(fo.cutoff > 0.0) && !atoms.bonds.empty()) fo.cutoff = 1e-9 * atoms.box.lengths().maxCoeff();  // bonds only
   if (!atoms.bonds.empty()) {
     fo.molecular_bonds = &atoms.bonds;
     fo.special_lj = spec.special_lj;
@@ -108,6 +116,7 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
   body.base_horizon = fo.cutoff;
   body.potential = potential;
   body.base_potential = potential;
+  if (spec.ntypes == 0) spec.ntypes = ntypes;
   body.potential_spec = std::move(spec);
   body.provenance.push_back("delta body from " + (options.source.empty() ? std::string("atoms") : options.source) +
                             " with " + potential->style());

@@ -2,8 +2,16 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
+
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/core/parse.hpp"
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/hdf5.hpp"
@@ -22,8 +30,77 @@ std::vector<T> narrow(const std::vector<std::int64_t>& v) {
 
 }  // namespace
 
+std::vector<EmbeddedFile> embed_potential_files(const atomistic::PotentialSpec& spec) {
+  std::vector<EmbeddedFile> out;
+  for (const auto& c : spec.pair_coeff) {
+    const std::string tok = atomistic::coeff_file_argument(spec, c);
+    if (tok.empty()) continue;
+    bool seen = false;
+    for (const auto& e : out) seen = seen || e.name == tok;
+    if (seen) continue;
+    const auto path = atomistic::find_potential_file(tok);
+    std::ifstream in(path.value_or(tok), std::ios::binary);
+    if (!path || !in)
+      throw InputError("potential file not found")
+          .source(spec.source)
+          .line(c.line_number)
+          .key("pair_coeff")
+          .value(tok)
+          .expected("a file at the given path or in $LAMMPS_POTENTIALS")
+          .fix("give the path of the potential file in the pair_coeff line");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    out.push_back({tok, ss.str()});
+  }
+  return out;
+}
+
+std::shared_ptr<const atomistic::Potential> potential_from_commands(const atomistic::PotentialSpec& stored,
+                                                                    const std::vector<EmbeddedFile>& files) {
+  std::vector<std::string> lines = stored.lines;
+  std::filesystem::path dir;
+  if (!files.empty()) {
+    dir = std::filesystem::temp_directory_path() /
+          fmt::format("pdcg-potential-{}-{}", static_cast<long>(::getpid()), static_cast<const void*>(&files));
+    std::filesystem::create_directories(dir);
+    for (std::size_t k = 0; k < files.size(); ++k) {
+      const auto target = dir / fmt::format("{}_{}", k, std::filesystem::path(files[k].name).filename().string());
+      {
+        std::ofstream out(target, std::ios::binary);
+        out << files[k].contents;
+      }
+      for (auto& l : lines) {
+        // replace the file word of pair_coeff lines (whole words only)
+        if (l.find("pair_coeff") == std::string::npos) continue;
+        std::string rebuilt;
+        for (auto w : split_blanks(l)) {
+          if (!rebuilt.empty()) rebuilt.push_back(' ');
+          if (w == files[k].name)
+            rebuilt.append(target.string());
+          else
+            rebuilt.append(w);
+        }
+        l = rebuilt;
+      }
+    }
+  }
+  std::string text;
+  for (const auto& l : lines) text += l + "\n";
+  std::shared_ptr<const atomistic::Potential> pot;
+  try {
+    atomistic::PotentialSpec spec =
+        atomistic::read_potential_commands_from_string(text, stored.source.empty() ? "model file" : stored.source, stored.ntypes);
+    pot = atomistic::make_potential(spec);
+  } catch (...) {
+    if (!dir.empty()) std::filesystem::remove_all(dir);
+    throw;
+  }
+  if (!dir.empty()) std::filesystem::remove_all(dir);
+  return pot;
+}
+
 PotentialFactory& default_potential_factory() {
-  static PotentialFactory f;
+  static PotentialFactory f = potential_from_commands;
   return f;
 }
 

@@ -23,8 +23,18 @@ void write_body(const Body& body, const std::filesystem::path& path);
 using PotentialFactory = std::function<std::shared_ptr<const atomistic::Potential>(
     const atomistic::PotentialSpec& spec, const std::vector<EmbeddedFile>& files)>;
 
+/// The contents of every file the potential's pair_coeff lines name (EAM tables …), read
+/// where LAMMPS would find them; InputError naming the line when one is missing.
+std::vector<EmbeddedFile> embed_potential_files(const atomistic::PotentialSpec& spec);
+
+/// Rebuilds a native potential from stored command lines: embedded files are written to a
+/// private temporary directory, the pair_coeff lines are pointed at them, the lines re-parsed
+/// (read_potential_commands_from_string) and make_potential called. The default factory.
+std::shared_ptr<const atomistic::Potential> potential_from_commands(const atomistic::PotentialSpec& stored,
+                                                                    const std::vector<EmbeddedFile>& files);
+
 /// The factory read_body uses when none is given (set by the module that knows how to make
-/// potentials from LAMMPS commands; empty until then).
+/// potentials from LAMMPS commands): potential_from_commands unless replaced.
 PotentialFactory& default_potential_factory();
 
 /// Reads a body. The potential is rebuilt by `factory` (or the default factory) and wrapped

@@ -1,0 +1,136 @@
+// Helpers shared by the body commands (atoms2pd, forces, energy): reading configurations and
+// frame ranges, parsing matrices, bringing deformed positions onto the body's images.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pdcg/atomistic/atoms.hpp"
+#include "pdcg/atomistic/data_file.hpp"
+#include "pdcg/atomistic/dump_reader.hpp"
+#include "pdcg/body/body.hpp"
+#include "pdcg/core/error.hpp"
+#include "pdcg/core/parse.hpp"
+
+namespace pdcg::cli::body_util {
+
+/// n numbers from an option value ("1 0 0 0 1 0 0 0 1").
+inline std::vector<double> numbers(const std::string& text, std::size_t n, std::string_view option) {
+  std::string t = text;
+  for (auto& c : t)
+    if (c == ',') c = ' ';
+  const auto tok = split_blanks(t);
+  if (tok.size() != n)
+    throw InputError("wrong number of values")
+        .source(option)
+        .value(text)
+        .expected(fmt::format("{} numbers separated by blanks", n));
+  std::vector<double> v;
+  for (auto s : tok) v.push_back(parse_double(s, {option, 0, option}));
+  return v;
+}
+
+/// Frame selection: --frame N or --frames A:B[:S] (0-based, B exclusive, negative counts from
+/// the end as in Python).
+struct FrameRange {
+  std::int64_t first = 0, last = 1, step = 1;  // [first, last)
+};
+
+inline FrameRange parse_frames(const std::optional<std::int64_t>& frame, const std::string& frames,
+                               std::int64_t nframes, const std::string& source) {
+  if (frame && !frames.empty())
+    throw InputError("give one of --frame and --frames").key("--frame/--frames");
+  auto fix = [&](std::int64_t v) { return v < 0 ? v + nframes : v; };
+  FrameRange r;
+  if (frame) {
+    r.first = fix(*frame);
+    r.last = r.first + 1;
+  } else if (!frames.empty()) {
+    std::vector<std::string> parts;
+    std::string cur;
+    for (char c : frames) {
+      if (c == ':') {
+        parts.push_back(cur);
+        cur.clear();
+      } else {
+        cur.push_back(c);
+      }
+    }
+    parts.push_back(cur);
+    if (parts.size() < 2 || parts.size() > 3)
+      throw InputError("bad frame range").source("--frames").value(frames).expected("A:B or A:B:S");
+    r.first = parts[0].empty() ? 0 : fix(parse_int(parts[0], {"--frames", 0, "A"}));
+    r.last = parts[1].empty() ? nframes : fix(parse_int(parts[1], {"--frames", 0, "B"}));
+    if (parts.size() == 3) r.step = parse_int(parts[2], {"--frames", 0, "S"});
+    if (r.step < 1) throw InputError("frame step must be positive").source("--frames").value(frames);
+  }
+  if (r.first < 0 || r.first >= nframes || r.last > nframes || r.last <= r.first)
+    throw InputError("frame range out of bounds")
+        .source(source)
+        .key(frame ? "--frame" : "--frames")
+        .value(frame ? std::to_string(*frame) : frames)
+        .expected(fmt::format("frames within 0..{} (the file holds {} frame{})", nframes - 1, nframes,
+                              nframes == 1 ? "" : "s"))
+        .fix("count frames from 0; negative numbers count from the end");
+  return r;
+}
+
+/// Frames of a dump or the configuration of a data file.
+inline std::vector<atomistic::Atoms> read_configurations(const std::string& path, const std::optional<std::int64_t>& frame,
+                                                         const std::string& frames, std::string* units) {
+  std::vector<atomistic::Atoms> out;
+  if (atomistic::detect_atom_file_kind(path) == atomistic::AtomFileKind::data) {
+    (void)parse_frames(frame, frames, 1, path);
+    out.push_back(atomistic::read_data_file(path));
+    return out;
+  }
+  atomistic::DumpReader dump(path);
+  if (units) *units = dump.units();
+  const auto r = parse_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path);
+  for (std::int64_t f = r.first; f < r.last; f += r.step) out.push_back(dump.frame(static_cast<std::size_t>(f)));
+  return out;
+}
+
+/// Deformed positions for a body from a configuration with the same atom ids: sorted by id,
+/// and along periodic directions moved by whole box vectors of the deformed box so that every
+/// atom sits on the image the body's families assume (fractional displacement < ½).
+inline std::vector<double> deformed_positions(const body::Body& b, atomistic::Atoms a, const std::string& source,
+                                              Eigen::Matrix3d& h_y) {
+  atomistic::sort_by_id(a, source);
+  if (a.id != b.id) {
+    std::string detail = fmt::format("{} atoms", a.size());
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+      if (a.id[i] != b.id[i]) {
+        detail += fmt::format(", first differing id {} (body has {})", a.id[i], b.id[i]);
+        break;
+      }
+    throw InputError("deformed configuration does not hold the body's atoms")
+        .source(source)
+        .key("id")
+        .value(detail)
+        .expected(fmt::format("the {} atom ids of the body", b.size()))
+        .fix("dump the same atoms (dump custom ... id type x y z) as the configuration the body was built from");
+  }
+  h_y = b.periodic() ? a.box.h() : b.families.h;
+  if (b.periodic()) {
+    const Eigen::Matrix3d Hx_inv = b.box.h_inverse(), Hy_inv = h_y.inverse();
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const Eigen::Vector3d sx = Hx_inv * (Eigen::Vector3d(b.x[3 * i], b.x[3 * i + 1], b.x[3 * i + 2]) - b.box.lo);
+      Eigen::Vector3d y(a.x[3 * i], a.x[3 * i + 1], a.x[3 * i + 2]);
+      const Eigen::Vector3d sy = Hy_inv * (y - a.box.lo);
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k)
+        if (b.box.periodic[static_cast<std::size_t>(k)]) m[k] = std::round(sx[k] - sy[k]);
+      y += h_y * m;
+      for (int k = 0; k < 3; ++k) a.x[3 * i + static_cast<std::size_t>(k)] = y[k];
+    }
+  }
+  return a.x;
+}
+
+}  // namespace pdcg::cli::body_util

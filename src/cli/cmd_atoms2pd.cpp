@@ -1,0 +1,140 @@
+/// `pdcg atoms2pd --input FILE [--frame N | --frames A:B[:S]] --potential FILE
+///   --density delta|statistical [--statistics gaussian|empirical] [--order N | --samples N]
+///   [--width W] [--dimension D] [--boundary "p p f"] -o body.h5`
+/// Builds a PD body from atoms (DESIGN.md §2.1–2.2).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "body_cli_util.hpp"
+#include "command.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/body/model_file.hpp"
+#include "pdcg/body/statistics.hpp"
+#include "pdcg/core/log.hpp"
+
+namespace {
+
+struct Options {
+  std::string input, potential, density = "delta", statistics = "gaussian", frames, output, boundary;
+  std::optional<std::int64_t> frame, samples;
+  std::optional<int> order;
+  std::optional<double> width, family_cutoff;
+  int dimension = 3;
+};
+
+int run(const Options& o) {
+  using namespace pdcg;
+  namespace bu = cli::body_util;
+  if (o.density != "delta" && o.density != "statistical")
+    throw InputError("unknown density").source("--density").value(o.density).expected("delta or statistical");
+  if (o.statistics != "gaussian" && o.statistics != "empirical")
+    throw InputError("unknown statistics").source("--statistics").value(o.statistics).expected("gaussian or empirical");
+  const bool statistical = o.density == "statistical";
+  if (!statistical && (o.order || o.samples || o.width || !o.frames.empty()))
+    throw InputError("--order, --samples, --width and --frames belong to statistical densities")
+        .source("--density")
+        .value("delta")
+        .fix("add --density statistical, or drop those options");
+  if (o.order && o.samples) throw InputError("give one of --order and --samples").key("--order/--samples");
+  std::string dump_units;
+  std::vector<atomistic::Atoms> frames = bu::read_configurations(o.input, o.frame, o.frames, &dump_units);
+  if (!o.boundary.empty()) {
+    const auto tok = split_blanks(o.boundary);
+    if (tok.size() != 3) throw InputError("bad boundary").source("--boundary").value(o.boundary).expected("three of p/f, e.g. \"p p f\"");
+    for (auto& f : frames)
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (tok[k] != "p" && tok[k] != "f")
+          throw InputError("bad boundary flag").source("--boundary").value(tok[k]).expected("p (periodic) or f (free)");
+        f.box.periodic[k] = tok[k] == "p";
+      }
+  }
+  atomistic::Atoms& ref = frames.front();
+  int ntypes = ref.ntypes;
+  if (ntypes == 0 && !ref.type.empty()) ntypes = *std::max_element(ref.type.begin(), ref.type.end());
+  atomistic::PotentialSpec spec = atomistic::read_potential_commands(o.potential, ntypes);
+  if (!dump_units.empty() && dump_units != to_string(spec.units))
+    throw InputError("the dump and the potential use different units")
+        .source(o.input)
+        .key("ITEM: UNITS")
+        .value(dump_units)
+        .expected(fmt::format("'{}' (the `units` of {})", to_string(spec.units), o.potential))
+        .fix("use the potential file the trajectory was produced with");
+  std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  body::DeltaBodyOptions opt;
+  opt.dimension = o.dimension;
+  opt.source = o.input;
+  if (o.family_cutoff) {
+    if (!(*o.family_cutoff >= pot->cutoff()))
+      throw InputError("family cutoff below the potential's cutoff")
+          .source("--family-cutoff")
+          .value(fmt::format("{}", *o.family_cutoff))
+          .expected(fmt::format("at least the potential cutoff {}", pot->cutoff()))
+          .fix("omit --family-cutoff, or give the cutoff plus a skin");
+    opt.cutoff = *o.family_cutoff;
+  }
+  body::Body b = body::make_delta_body(ref, pot, spec, opt);
+  b.potential_files = body::embed_potential_files(b.potential_spec);
+  b.provenance.back() += fmt::format(" (potential {}, {})", o.potential, pdcg::command_line());
+  if (statistical) {
+    body::Statistics s;
+    if (o.statistics == "empirical") {
+      s = body::empirical_from_frames(b, frames);
+    } else if (o.width) {
+      if (frames.size() > 1) throw InputError("give --width or several frames, not both").key("--width");
+      s = body::isotropic_gaussian(b, *o.width);
+    } else {
+      if (frames.size() < 2)
+        throw InputError("gaussian densities need a width or several frames")
+            .key("--statistics gaussian")
+            .fix("give --frames A:B (mean and covariance per atom) or --width W (isotropic)");
+      s = body::gaussian_from_frames(b, frames);
+    }
+    if (o.samples) {
+      s.method = body::Statistics::Method::sampling;
+      s.samples = *o.samples;
+    } else {
+      s.method = pot->pairwise() ? body::Statistics::Method::cubature : body::Statistics::Method::sampling;
+      if (o.order) s.order = *o.order;
+      if (o.order && !pot->pairwise())
+        throw InputError("Gauss–Hermite cubature needs a pair potential")
+            .key("--order")
+            .value(pot->style())
+            .fix("use --samples N for many-body potentials");
+    }
+    body::make_statistical(b, std::move(s));
+  }
+  body::write_body(b, o.output);
+  std::printf("%s: %s body, %zu points, %zu bonds, horizon %.10g, potential %s\n", o.output.c_str(),
+              std::string(body::to_string(b.kind)).c_str(), b.size(), b.families.bonds(), b.horizon(),
+              pot->style().c_str());
+  return 0;
+}
+
+pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
+  auto* sub = app.add_subcommand("atoms2pd", "Build a peridynamic body from atoms and a potential");
+  auto o = std::make_shared<Options>();
+  sub->add_option("--input", o->input, "LAMMPS dump or data file")->required();
+  sub->add_option("--frame", o->frame, "Frame of a dump (0-based; negative from the end; default 0)");
+  sub->add_option("--frames", o->frames, "Frame range A:B[:S] (B exclusive) for statistical densities");
+  sub->add_option("--potential", o->potential, "LAMMPS commands defining the interaction")->required();
+  sub->add_option("--density", o->density, "delta | statistical (default delta)");
+  sub->add_option("--statistics", o->statistics, "gaussian | empirical (default gaussian)");
+  sub->add_option("--order", o->order, "Gauss–Hermite points per dimension (pair potentials)");
+  sub->add_option("--samples", o->samples, "Samples for the expected energy (any potential)");
+  sub->add_option("--width", o->width, "Isotropic Gaussian width (one frame)");
+  sub->add_option("--family-cutoff", o->family_cutoff,
+                  "Family radius (default: the potential cutoff); a skin keeps pairs that come within the "
+                  "cutoff in deformed configurations");
+  sub->add_option("--dimension", o->dimension, "Dimension of the body (1, 2, 3; default 3)");
+  sub->add_option("--boundary", o->boundary, "Override periodicity, e.g. \"p p f\"");
+  sub->add_option("-o,--output", o->output, "Output model file")->required();
+  sub->footer(
+      "Examples:\n  pdcg atoms2pd --input dump.lammpstrj --frame 0 --potential lj.in --density delta -o body.h5\n"
+      "  pdcg atoms2pd --input dump.lammpstrj --frames 10:60 --potential lj.in --density statistical --order 4 -o stat.h5");
+  return [o] { return run(*o); };
+});
+
+}  // namespace

@@ -1,0 +1,51 @@
+/// `pdcg energy BODY.h5 --F "F11 F12 F13 F21 F22 F23 F31 F32 F33" [--json]`: total energy and
+/// energy per reference volume under the homogeneous deformation y = F x (H_y = F H).
+#include <fmt/format.h>
+
+#include <cstdio>
+
+#include "body_cli_util.hpp"
+#include "command.hpp"
+#include "pdcg/body/model_file.hpp"
+
+namespace {
+
+struct Options {
+  std::string body, F;
+  bool json = false;
+};
+
+int run(const Options& o) {
+  using namespace pdcg;
+  const auto v = cli::body_util::numbers(o.F, 9, "--F");
+  Eigen::Matrix3d F;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) F(r, c) = v[static_cast<std::size_t>(3 * r + c)];
+  if (!(F.determinant() > 0.0))
+    throw InputError("deformation gradient with det F ≤ 0")
+        .source("--F")
+        .value(fmt::format("{} (det F = {:.6g})", o.F, F.determinant()))
+        .expected("det F > 0 (row-major F11 F12 F13 F21 … F33)")
+        .fix("the identity is \"1 0 0 0 1 0 0 0 1\"");
+  const body::Body b = body::read_body(o.body);
+  body::Evaluator ev(b);
+  const body::Evaluation e = ev.homogeneous(F);
+  const double vol = b.reference_volume();
+  if (o.json)
+    std::printf("{\"energy\": %.17g, \"energy_density\": %.17g, \"volume\": %.17g}\n", e.energy, e.energy / vol, vol);
+  else
+    std::printf("energy %.17g\nenergy_density %.17g\nvolume %.17g\n", e.energy, e.energy / vol, vol);
+  return 0;
+}
+
+pdcg::cli::Registration reg(115, [](CLI::App& app) -> pdcg::cli::Runner {
+  auto* sub = app.add_subcommand("energy", "Energy and energy density under a homogeneous deformation F");
+  auto o = std::make_shared<Options>();
+  sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
+  sub->add_option("--F", o->F, "Deformation gradient, 9 numbers row-major")->required();
+  sub->add_flag("--json", o->json, "JSON output: energy, energy_density, volume");
+  sub->footer("Example:\n  pdcg energy body.h5 --F \"1.01 0 0 0 1 0 0 0 1\" --json");
+  return [o] { return run(*o); };
+});
+
+}  // namespace
