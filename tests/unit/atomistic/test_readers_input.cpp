@@ -4,7 +4,12 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <filesystem>
+#include <random>
+#include <tuple>
 #include <fstream>
 #include <string>
 
@@ -333,6 +338,66 @@ TEST_F(Files, DataSectionLongerThanDeclared) {
   t.replace(t.find("2 1.008\n"), 8, "2 1.008\n3 5.0\n");
   const auto p = write("l.data", t);
   expect_error([&] { (void)read_data(p); }, p, 17, "expected a section keyword after section Masses");
+}
+
+}  // namespace
+
+namespace {
+
+/// A multi-frame dump of random numbers, large enough (≈ 13 MB) for several gzip
+/// access points (one per 4 MiB of text).
+std::string random_dump(int frames, int natoms) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(-50.0, 50.0);
+  std::string t;
+  for (int f = 0; f < frames; ++f) {
+    t += fmt::format(
+        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS pp pp pp\n"
+        "-50 50\n-50 50\n-50 50\nITEM: ATOMS id type x y z\n",
+        100 * f, natoms);
+    for (int i = 0; i < natoms; ++i)
+      t += fmt::format("{} {} {:.15g} {:.15g} {:.15g}\n", natoms - i, 1 + i % 3, u(rng), u(rng),
+                       u(rng));
+  }
+  return t;
+}
+
+TEST_F(Files, GzipRandomAccessMatchesPlainText) {
+  const std::string text = random_dump(40, 5000);
+  const auto plain = write("r.dump", text);
+  // Two gzip members (the second appended with mode "ab"), so seeks also cross a member.
+  const std::string gz = dir / "r.dump.gz";
+  const std::size_t half = text.find("ITEM: TIMESTEP\n2000\n");
+  for (const auto& [mode, a, b] : {std::tuple{"wb1", std::size_t{0}, half},
+                                   std::tuple{"ab1", half, text.size()}}) {
+    gzFile f = gzopen(gz.c_str(), mode);
+    ASSERT_EQ(gzwrite(f, text.data() + a, static_cast<unsigned>(b - a)), static_cast<int>(b - a));
+    gzclose(f);
+  }
+  DumpReader p(plain), z(gz);
+  EXPECT_TRUE(z.compressed());
+  ASSERT_EQ(z.nframes(), 40u);
+  // Reference: the plain-text reader (no seeking machinery involved).
+  std::mt19937 rng(7);
+  for (int k = 0; k < 14; ++k) {
+    const std::size_t n = rng() % 40;
+    SCOPED_TRACE("frame " + std::to_string(n));
+    const Atoms a = z.frame(n), b = p.frame(n);
+    EXPECT_EQ(a.timestep, 100 * static_cast<std::int64_t>(n));
+    EXPECT_EQ(a.id, b.id);
+    EXPECT_EQ(a.type, b.type);
+    EXPECT_EQ(a.x, b.x);  // the same text: bitwise identical
+  }
+}
+
+TEST_F(Files, TruncatedGzip) {
+  const std::string text = random_dump(3, 2000);
+  const std::string gz = dir / "cut.dump.gz";
+  gzFile f = gzopen(gz.c_str(), "wb");
+  gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(f);
+  std::filesystem::resize_file(gz, std::filesystem::file_size(gz) / 2);
+  expect_error([&] { DumpReader r(gz); }, gz, 0, "corrupt or truncated gzip data");
 }
 
 }  // namespace
