@@ -238,7 +238,8 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
       fail(ln, "unknown header line", content,
            "'N atoms', 'N atom types', 'N bonds', 'N bond types', ..., 'xlo xhi', 'ylo yhi', "
            "'zlo zhi', 'xy xz yz', or a section keyword",
-           "check the spelling; header lines must come before the first section");
+           "check the spelling; header lines must come before the first section. (Text dumps "
+           "start with 'ITEM:'; xyz files and other formats are not read.)");
     }
   }
   more = false;
@@ -420,6 +421,10 @@ void Parser::read_bonds(std::int64_t n) {
 DataFile Parser::run() {
   std::string_view line;
   if (!r_.next(line)) fail(1, "empty data file", {}, "a title line, a header and sections", {});
+  if (line.find('\0') != std::string_view::npos)
+    fail(1, "binary file", "NUL bytes on line 1", "a text LAMMPS data file or text dump",
+         "binary dumps and restart files are not read; write a text dump (dump custom) or a "
+         "data file (write_data), or convert with LAMMPS's tools/binary2txt");
   out_.title = std::string(trim(line));
   out_.compressed = src_->compressed();
   std::string_view section, comment;

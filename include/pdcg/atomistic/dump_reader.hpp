@@ -21,8 +21,10 @@
 /// offset (uncompressed offset for gzip) and line number of its atom lines
 /// plus its header (timestep, N, box, columns). frame(n) then seeks there and
 /// parses only those N lines: random access without parsing earlier frames.
-/// For gzip, seeking is emulated by zlib (forward decompression, or from the
-/// start when going backwards); reading frames in increasing order stays linear.
+/// For gzip the offsets are uncompressed offsets; while indexing, the reader
+/// records an access point every 4 MiB of text (compressed offset, bit offset,
+/// last 32 KiB of output: the method of zlib's examples/zran.c), so frame(n)
+/// restarts decompression at most 4 MiB before the frame, in any order.
 ///
 /// Triclinic boxes: a dump stores the bounding box; the box itself is
 /// (Howto_triclinic.html, "Output of the triclinic box")

@@ -197,6 +197,9 @@ TEST_F(Files, NotADump) {
   expect_error([&] { DumpReader r(p); }, p, 1, "not a LAMMPS dump file");
   expect_error([&] { DumpReader r(dir / "missing.dump"); }, dir / "missing.dump", 0,
                "file not found");
+  const auto b = write("bin.dump", std::string("\x05\0\0\0\0\0\0\0\x10", 9));
+  EXPECT_EQ(detect_atom_file_kind(b), AtomFileKind::data);
+  expect_error([&] { (void)read_data(b); }, b, 1, "binary file");
 }
 
 // ---- data files --------------------------------------------------------------
