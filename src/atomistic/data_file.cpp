@@ -75,7 +75,11 @@ std::int64_t section_lines(std::string_view s, const std::map<std::string, std::
   };
   known = true;
   if (s == "Atoms" || s == "Velocities") return get("atoms");
-  if (s == "Masses" || s == "Pair Coeffs") return get("atom types");
+  if (s == "Masses" || s == "Pair Coeffs" || s == "Atom Type Labels") return get("atom types");
+  if (s == "Bond Type Labels") return get("bond types");
+  if (s == "Angle Type Labels") return get("angle types");
+  if (s == "Dihedral Type Labels") return get("dihedral types");
+  if (s == "Improper Type Labels") return get("improper types");
   if (s == "PairIJ Coeffs") return get("atom types") * (get("atom types") + 1) / 2;
   if (s == "Bonds") return get("bonds");
   if (s == "Angles") return get("angles");
@@ -99,7 +103,8 @@ constexpr const char* kKnownSections =
     "Atoms, Velocities, Masses, Bonds, Angles, Dihedrals, Impropers, Pair Coeffs, PairIJ Coeffs, "
     "Bond Coeffs, Angle Coeffs, Dihedral Coeffs, Improper Coeffs, BondBond Coeffs, BondAngle "
     "Coeffs, MiddleBondTorsion Coeffs, EndBondTorsion Coeffs, AngleTorsion Coeffs, "
-    "AngleAngleTorsion Coeffs, BondBond13 Coeffs, AngleAngle Coeffs, Ellipsoids, Lines, Triangles";
+    "AngleAngleTorsion Coeffs, BondBond13 Coeffs, AngleAngle Coeffs, Ellipsoids, Lines, Triangles, "
+    "Atom/Bond/Angle/Dihedral/Improper Type Labels";
 
 /// Splits a line into its content (before '#') and its comment (after '#'), both trimmed.
 std::string_view strip_comment(std::string_view line, std::string_view* comment = nullptr) {

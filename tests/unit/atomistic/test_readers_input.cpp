@@ -404,3 +404,15 @@ TEST_F(Files, TruncatedGzip) {
 }
 
 }  // namespace
+
+namespace {
+TEST_F(Files, DataTypeLabelSectionsAreSkipped) {
+  std::string t = kData;
+  t.replace(t.find("Masses\n"), 7, "Atom Type Labels\n\n1 C\n2 H\n\nBond Type Labels\n\n1 C-H\n\nMasses\n");
+  const auto p = write("labels.data", t);
+  const DataFile d = read_data(p);
+  EXPECT_EQ(d.sections.front(), "Atom Type Labels");
+  EXPECT_EQ(d.atoms.size(), 4u);
+  EXPECT_DOUBLE_EQ(d.atoms.type_mass[2], 1.008);
+}
+}  // namespace
