@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -133,12 +134,16 @@ struct DumpReader::Impl {
   std::string path;
   std::unique_ptr<ByteSource> src;
   std::unique_ptr<LineReader> lines;
-  std::vector<DumpFrameInfo> frames;
-  std::vector<std::vector<std::string>> column_sets;
+  std::deque<DumpFrameInfo> frames;  // deque: references stay valid as the index grows
+  std::deque<std::vector<std::string>> column_sets;
   std::string units;
+  bool complete = false;             // every frame indexed
+  std::uint64_t resume_offset = 0;   // where indexing continues
+  long resume_line = 1;
   mutable std::mutex mutex;
 
-  void index();
+  /// Indexes frames until frame `wanted` is known or the file ends.
+  void index_until(std::size_t wanted);
   Atoms parse(std::size_t n);
 
   [[noreturn]] void fail_at(long line, std::string problem, std::string_view value,
@@ -152,8 +157,10 @@ struct DumpReader::Impl {
   }
 };
 
-void DumpReader::Impl::index() {
+void DumpReader::Impl::index_until(std::size_t wanted) {
+  if (complete || frames.size() > wanted) return;
   LineReader& r = *lines;
+  r.seek(resume_offset, resume_line);
   std::string_view line;
   std::vector<std::string_view> tok;
   tok.reserve(16);
@@ -320,9 +327,13 @@ void DumpReader::Impl::index() {
                 "incomplete frame");
     }
     frames.push_back(fi);
+    resume_offset = r.offset();
+    resume_line = r.line_number() + 1;
+    if (frames.size() > wanted) return;
     off = r.offset();
     have = r.next(line);
   }
+  complete = true;
   if (frames.empty())
     fail_at(0, "empty dump file", {}, "at least one frame", "give a non-empty LAMMPS text dump");
 }
@@ -490,7 +501,7 @@ DumpReader::DumpReader(const std::string& path) : impl_(std::make_unique<Impl>()
   impl_->path = path;
   impl_->src = ByteSource::open(path);
   impl_->lines = std::make_unique<LineReader>(*impl_->src);
-  impl_->index();
+  impl_->index_until(0);
 }
 DumpReader::~DumpReader() = default;
 DumpReader::DumpReader(DumpReader&&) noexcept = default;
@@ -498,15 +509,25 @@ DumpReader& DumpReader::operator=(DumpReader&&) noexcept = default;
 
 const std::string& DumpReader::path() const { return impl_->path; }
 bool DumpReader::compressed() const { return impl_->src->compressed(); }
-std::size_t DumpReader::nframes() const { return impl_->frames.size(); }
+std::size_t DumpReader::nframes() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->index_until(std::numeric_limits<std::size_t>::max() - 1);
+  return impl_->frames.size();
+}
 const std::vector<std::string>& DumpReader::columns() const { return columns(0); }
 const std::vector<std::string>& DumpReader::columns(std::size_t n) const {
-  return impl_->column_sets[info(n).column_set];
+  const std::size_t set = info(n).column_set;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->column_sets[set];
 }
-const std::vector<std::vector<std::string>>& DumpReader::column_sets() const {
-  return impl_->column_sets;
+std::vector<std::vector<std::string>> DumpReader::column_sets() const {
+  (void)nframes();
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return {impl_->column_sets.begin(), impl_->column_sets.end()};
 }
 const DumpFrameInfo& DumpReader::info(std::size_t n) const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->index_until(n);
   if (n >= impl_->frames.size())
     throw InputError("frame index out of range")
         .source(impl_->path)

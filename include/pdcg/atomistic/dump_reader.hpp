@@ -17,10 +17,13 @@
 ///   N lines, one value per column
 /// \endverbatim
 ///
-/// The constructor reads the file once and records, for every frame, the byte
-/// offset (uncompressed offset for gzip) and line number of its atom lines
-/// plus its header (timestep, N, box, columns). frame(n) then seeks there and
-/// parses only those N lines: random access without parsing earlier frames.
+/// The reader keeps an index: for every frame, the byte offset (uncompressed
+/// offset for gzip) and line number of its atom lines plus its header
+/// (timestep, N, box, columns). The index grows lazily in one forward pass —
+/// the constructor indexes frame 0, info(n)/frame(n) index up to frame n,
+/// nframes() to the end of the file — and atom lines are only counted while
+/// indexing. frame(n) then seeks to its atom lines and parses only those N
+/// lines: random access without parsing any other frame.
 /// For gzip the offsets are uncompressed offsets; while indexing, the reader
 /// records an access point every 4 MiB of text (compressed offset, bit offset,
 /// last 32 KiB of output: the method of zlib's examples/zran.c), so frame(n)
@@ -76,10 +79,12 @@ struct DumpFrameInfo {
 
 class DumpReader {
  public:
-  /// Opens and indexes `path` (plain text or gzip, detected from the content).
-  /// Throws InputError for anything malformed in a frame header, a truncated
+  /// Opens `path` (plain text or gzip, detected from the content) and indexes
+  /// its first frame. Indexing (here, and later in nframes(), info(), frame())
+  /// throws InputError for anything malformed in a frame header, a truncated
   /// frame (fewer atom lines than `ITEM: NUMBER OF ATOMS` says), or a missing
-  /// `ITEM:` section, naming the file and line.
+  /// `ITEM:` section, naming the file and line. A problem in frame k is
+  /// reported when the index first reaches frame k.
   explicit DumpReader(const std::string& path);
   ~DumpReader();
   DumpReader(DumpReader&&) noexcept;
@@ -87,12 +92,14 @@ class DumpReader {
 
   const std::string& path() const;
   bool compressed() const;
+  /// Number of frames (indexes the whole file on the first call).
   std::size_t nframes() const;
   /// Column names of frame 0 (`ITEM: ATOMS ...`).
   const std::vector<std::string>& columns() const;
   /// Column names of frame n (a dump may change its columns between frames).
   const std::vector<std::string>& columns(std::size_t n) const;
-  const std::vector<std::vector<std::string>>& column_sets() const;
+  /// The distinct column lists of the file (indexes the whole file).
+  std::vector<std::vector<std::string>> column_sets() const;
   const DumpFrameInfo& info(std::size_t n) const;
   /// `ITEM: UNITS` value if the dump has one, else empty.
   const std::string& units() const;
