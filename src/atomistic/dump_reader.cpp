@@ -31,8 +31,8 @@ bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 enum class Dest : std::uint8_t { skip, id, type, mol, charge, mass, pos, image, vel, force, extra };
 struct ColumnPlan {
   Dest dest = Dest::skip;
-  int component = 0;        ///< 0..2 for vectors
-  std::string extra_name;   ///< for Dest::extra
+  int component = 0;       ///< 0..2 for vectors
+  std::string extra_name;  ///< for Dest::extra
 };
 enum class PositionKind { none, unwrapped, wrapped, scaled_unwrapped, scaled };
 
@@ -137,8 +137,8 @@ struct DumpReader::Impl {
   std::deque<DumpFrameInfo> frames;  // deque: references stay valid as the index grows
   std::deque<std::vector<std::string>> column_sets;
   std::string units;
-  bool complete = false;             // every frame indexed
-  std::uint64_t resume_offset = 0;   // where indexing continues
+  bool complete = false;            // every frame indexed
+  std::uint64_t resume_offset = 0;  // where indexing continues
   long resume_line = 1;
   mutable std::mutex mutex;
 
@@ -168,8 +168,8 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
   // Reads the value line after an ITEM line.
   auto value_line = [&](std::string_view item) -> std::string_view {
     if (!r.next(line) || is_item(line))
-      fail_at(r.line_number(), fmt::format("truncated frame: no value after 'ITEM: {}'", item),
-              {}, fmt::format("the value of ITEM: {} on the next line", item),
+      fail_at(r.line_number(), fmt::format("truncated frame: no value after 'ITEM: {}'", item), {},
+              fmt::format("the value of ITEM: {} on the next line", item),
               "the file was cut short; regenerate it or drop the incomplete frame");
     return line;
   };
@@ -231,7 +231,8 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
                   "three boundary flags, e.g. 'pp pp ff'", {});
         for (std::size_t k = 0; k < flags.size(); ++k) {
           const auto f = flags[k];
-          const bool ok = f.size() == 2 && std::string_view("pfsm").find(f[0]) != std::string_view::npos &&
+          const bool ok = f.size() == 2 &&
+                          std::string_view("pfsm").find(f[0]) != std::string_view::npos &&
                           std::string_view("pfsm").find(f[1]) != std::string_view::npos;
           if (!ok)
             fail_at(item_line, "unknown boundary flag", f, "two of p, f, s, m (e.g. pp, fs)", {});
@@ -303,12 +304,13 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
                 "ATOMS)",
                 "a header line is missing; the file is corrupt");
     }
-    const char* missing = !got_step ? "TIMESTEP" : !got_natoms ? "NUMBER OF ATOMS"
-                                                 : !got_box    ? "BOX BOUNDS"
-                                                               : nullptr;
+    const char* missing = !got_step     ? "TIMESTEP"
+                          : !got_natoms ? "NUMBER OF ATOMS"
+                          : !got_box    ? "BOX BOUNDS"
+                                        : nullptr;
     if (missing)
-      fail_at(r.line_number(), fmt::format("missing 'ITEM: {}' section", missing),
-              "ITEM: ATOMS", fmt::format("'ITEM: {}' before 'ITEM: ATOMS' in every frame", missing),
+      fail_at(r.line_number(), fmt::format("missing 'ITEM: {}' section", missing), "ITEM: ATOMS",
+              fmt::format("'ITEM: {}' before 'ITEM: ATOMS' in every frame", missing),
               "the frame header is incomplete; the file is corrupt or not a LAMMPS dump");
     std::size_t set = 0;
     while (set < column_sets.size() && column_sets[set] != cols) ++set;
@@ -369,17 +371,39 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
     const auto k = static_cast<std::size_t>(c.component);
     Sink& s = sinks[j];
     switch (c.dest) {
-      case Dest::skip: s = {Sink::skip, nullptr, 1}; break;
-      case Dest::id: s = {Sink::i64, a.id.data(), 1}; break;
-      case Dest::type: s = {Sink::i32, a.type.data(), 1}; break;
-      case Dest::mol: s = {Sink::i64, a.molecule.data(), 1}; break;
-      case Dest::charge: s = {Sink::f64, a.charge.data(), 1}; break;
-      case Dest::mass: s = {Sink::f64, a.mass.data(), 1}; break;
-      case Dest::pos: s = {Sink::f64, a.x.data() + k, 3}; break;
-      case Dest::image: s = {Sink::i32, a.image.data() + k, 3}; break;
-      case Dest::vel: s = {Sink::f64, a.v.data() + k, 3}; break;
-      case Dest::force: s = {Sink::f64, a.f.data() + k, 3}; break;
-      case Dest::extra: s = {Sink::f64, extra[k]->data(), 1}; break;
+      case Dest::skip:
+        s = {Sink::skip, nullptr, 1};
+        break;
+      case Dest::id:
+        s = {Sink::i64, a.id.data(), 1};
+        break;
+      case Dest::type:
+        s = {Sink::i32, a.type.data(), 1};
+        break;
+      case Dest::mol:
+        s = {Sink::i64, a.molecule.data(), 1};
+        break;
+      case Dest::charge:
+        s = {Sink::f64, a.charge.data(), 1};
+        break;
+      case Dest::mass:
+        s = {Sink::f64, a.mass.data(), 1};
+        break;
+      case Dest::pos:
+        s = {Sink::f64, a.x.data() + k, 3};
+        break;
+      case Dest::image:
+        s = {Sink::i32, a.image.data() + k, 3};
+        break;
+      case Dest::vel:
+        s = {Sink::f64, a.v.data() + k, 3};
+        break;
+      case Dest::force:
+        s = {Sink::f64, a.f.data() + k, 3};
+        break;
+      case Dest::extra:
+        s = {Sink::f64, extra[k]->data(), 1};
+        break;
     }
   }
 
@@ -440,11 +464,11 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
     }
     while (p < e && blank(*p)) ++p;
     if (p != e)
-      fail_at(r.line_number(),
-              fmt::format("atom line has more values than the {} columns ITEM: ATOMS declares",
-                          ncols),
-              std::string(line.substr(0, 80)), fmt::format("{} values", ncols),
-              "the header does not match the data; the file is corrupt");
+      fail_at(
+          r.line_number(),
+          fmt::format("atom line has more values than the {} columns ITEM: ATOMS declares", ncols),
+          std::string(line.substr(0, 80)), fmt::format("{} values", ncols),
+          "the header does not match the data; the file is corrupt");
   }
 
   if (!plan.has_id) {
@@ -491,8 +515,9 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
         .key("id")
         .value(err.bad_value())
         .expected(fmt::format("each atom id once per frame (id {} is also on line {})", dup, first))
-        .fix("the file merges two systems or is corrupt; renumber the atoms (LAMMPS reset_atoms "
-             "id / reset_atom_ids)");
+        .fix(
+            "the file merges two systems or is corrupt; renumber the atoms (LAMMPS reset_atoms "
+            "id / reset_atom_ids)");
   }
   return a;
 }

@@ -232,7 +232,8 @@ class GzipSource final : public ByteSource {
   void skip(std::uint64_t n) {
     std::vector<char> scratch(static_cast<std::size_t>(std::min<std::uint64_t>(n, 1u << 20)));
     while (n > 0) {
-      const std::size_t got = read(scratch.data(), static_cast<std::size_t>(std::min<std::uint64_t>(n, scratch.size())));
+      const std::size_t got = read(
+          scratch.data(), static_cast<std::size_t>(std::min<std::uint64_t>(n, scratch.size())));
       if (got == 0) throw corrupt("seek beyond the end of the data");
       n -= got;
     }
@@ -243,8 +244,9 @@ class GzipSource final : public ByteSource {
         .source(path_)
         .value(msg)
         .expected("a complete gzip stream")
-        .fix("the file was cut short (disk full, run killed?); regenerate it or test it with "
-             "'gzip -t'");
+        .fix(
+            "the file was cut short (disk full, run killed?); regenerate it or test it with "
+            "'gzip -t'");
   }
 
   std::string path_;

@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
     const auto& f0 = dump.info(0);
     const std::uint64_t frame0_bytes =
         dump.nframes() > 1 ? dump.info(1).offset - f0.offset : std::filesystem::file_size(argv[1]);
-    std::printf("file_bytes %ju\n", static_cast<std::uintmax_t>(std::filesystem::file_size(argv[1])));
+    std::printf("file_bytes %ju\n",
+                static_cast<std::uintmax_t>(std::filesystem::file_size(argv[1])));
     std::printf("frames %zu\natoms_total %zu\nframe0_bytes %ju\n", dump.nframes(), atoms,
                 static_cast<std::uintmax_t>(frame0_bytes));
     std::printf("open_frame0_seconds %.4f\n", seconds(s0, s1));

@@ -69,12 +69,12 @@ struct DumpFrameInfo {
   std::int64_t timestep = 0;
   std::int64_t natoms = 0;
   Box box;
-  double time = 0.0;        ///< `ITEM: TIME` value; NaN when the dump has none
-  std::uint64_t offset = 0;  ///< byte offset (uncompressed) of the frame's first ITEM line
+  double time = 0.0;               ///< `ITEM: TIME` value; NaN when the dump has none
+  std::uint64_t offset = 0;        ///< byte offset (uncompressed) of the frame's first ITEM line
   std::uint64_t atoms_offset = 0;  ///< byte offset of its first atom line
-  long line = 0;             ///< line number of the frame's first ITEM line
-  long atoms_line = 0;       ///< line number of its first atom line
-  std::size_t column_set = 0;  ///< index into DumpReader::column_sets()
+  long line = 0;                   ///< line number of the frame's first ITEM line
+  long atoms_line = 0;             ///< line number of its first atom line
+  std::size_t column_set = 0;      ///< index into DumpReader::column_sets()
 };
 
 class DumpReader {

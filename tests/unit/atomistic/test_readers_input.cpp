@@ -1,17 +1,16 @@
 // Readers on hand-written files: header handling (orthogonal box, boundary
 // flags, extra columns, ITEM: UNITS/TIME), and one test per kind of bad input,
 // each checking that the message names the file and the line.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <zlib.h>
 
-#include <fmt/format.h>
-
 #include <cmath>
 #include <filesystem>
-#include <random>
-#include <tuple>
 #include <fstream>
+#include <random>
 #include <string>
+#include <tuple>
 
 #include "pdcg/atomistic/data_file.hpp"
 #include "pdcg/atomistic/dump_reader.hpp"
@@ -255,8 +254,8 @@ TEST_F(Files, DataFileByHand) {
   const DataFile d = read_data(p);
   EXPECT_EQ(d.title, "Test system # title");
   EXPECT_EQ(d.style, AtomStyle::molecular);
-  EXPECT_EQ(d.sections, (std::vector<std::string>{"Masses", "Pair Coeffs", "Atoms", "Velocities",
-                                                  "Bonds"}));
+  EXPECT_EQ(d.sections,
+            (std::vector<std::string>{"Masses", "Pair Coeffs", "Atoms", "Velocities", "Bonds"}));
   EXPECT_EQ(d.counts.at("bonds"), 2);
   const Atoms& a = d.atoms;
   EXPECT_EQ(a.ntypes, 2);
@@ -286,14 +285,16 @@ TEST_F(Files, DataMissingAtoms) {
   std::string t = kData;
   t.replace(t.find("4 atoms"), 7, "5 atoms");
   const auto p = write("m.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 30, "Atoms section has 4 lines, the header declares 5");
+  expect_error([&] { (void)read_data(p); }, p, 30,
+               "Atoms section has 4 lines, the header declares 5");
 }
 
 TEST_F(Files, DataDuplicateId) {
   std::string t = kData;
   t.replace(t.find("2 2 1 3.0"), 9, "3 2 1 3.0");
   const auto p = write("d.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 27, "duplicate atom id: got '3', expected each atom id once (id 3 is also on line 25)");
+  expect_error([&] { (void)read_data(p); }, p, 27,
+               "duplicate atom id: got '3', expected each atom id once (id 3 is also on line 25)");
 }
 
 TEST_F(Files, DataUnknownSection) {
@@ -332,7 +333,8 @@ TEST_F(Files, DataBondToMissingAtomAndBadType) {
   std::string t = kData;
   t.replace(t.find("2 1 3 4"), 7, "2 1 3 9");
   const auto p = write("b.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 40, "Bonds: atom id not in the Atoms section: got '9'");
+  expect_error([&] { (void)read_data(p); }, p, 40,
+               "Bonds: atom id not in the Atoms section: got '9'");
   std::string u = kData;
   u.replace(u.find("4 2 2 4.0"), 9, "4 2 3 4.0");
   const auto q = write("t.data", u);
@@ -343,7 +345,8 @@ TEST_F(Files, DataSectionLongerThanDeclared) {
   std::string t = kData;
   t.replace(t.find("2 1.008\n"), 8, "2 1.008\n3 5.0\n");
   const auto p = write("l.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 17, "expected a section keyword after section Masses");
+  expect_error([&] { (void)read_data(p); }, p, 17,
+               "expected a section keyword after section Masses");
 }
 
 }  // namespace
@@ -374,8 +377,8 @@ TEST_F(Files, GzipRandomAccessMatchesPlainText) {
   // Two gzip members (the second appended with mode "ab"), so seeks also cross a member.
   const std::string gz = dir / "r.dump.gz";
   const std::size_t half = text.find("ITEM: TIMESTEP\n2000\n");
-  for (const auto& [mode, a, b] : {std::tuple{"wb1", std::size_t{0}, half},
-                                   std::tuple{"ab1", half, text.size()}}) {
+  for (const auto& [mode, a, b] :
+       {std::tuple{"wb1", std::size_t{0}, half}, std::tuple{"ab1", half, text.size()}}) {
     gzFile f = gzopen(gz.c_str(), mode);
     ASSERT_EQ(gzwrite(f, text.data() + a, static_cast<unsigned>(b - a)), static_cast<int>(b - a));
     gzclose(f);
@@ -411,7 +414,8 @@ TEST_F(Files, TruncatedGzip) {
 namespace {
 TEST_F(Files, DataTypeLabelSectionsAreSkipped) {
   std::string t = kData;
-  t.replace(t.find("Masses\n"), 7, "Atom Type Labels\n\n1 C\n2 H\n\nBond Type Labels\n\n1 C-H\n\nMasses\n");
+  t.replace(t.find("Masses\n"), 7,
+            "Atom Type Labels\n\n1 C\n2 H\n\nBond Type Labels\n\n1 C-H\n\nMasses\n");
   const auto p = write("labels.data", t);
   const DataFile d = read_data(p);
   EXPECT_EQ(d.sections.front(), "Atom Type Labels");

@@ -99,13 +99,21 @@ fix 1 all nve
     lmp.run("dump A all custom/gz 10 " + d +
             "a.dump.gz vz ix zs id fy xs iz type ys vx iy fx vy fz\n"
             "dump_modify A format float %20.15g\n"
-            "dump B all custom 10 " + d + "b.dump zu id xu mass type yu\n"
+            "dump B all custom 10 " +
+            d +
+            "b.dump zu id xu mass type yu\n"
             "dump_modify B format float %20.15g\n"
-            "dump C all custom/gz 10 " + d + "c.dump.gz xsu id ysu zsu type\n"
+            "dump C all custom/gz 10 " +
+            d +
+            "c.dump.gz xsu id ysu zsu type\n"
             "dump_modify C format float %20.15g\n"
-            "dump D all custom 10 " + d + "d.dump y iy x id iz z ix type\n"
+            "dump D all custom 10 " +
+            d +
+            "d.dump y iy x id iz z ix type\n"
             "dump_modify D format float %20.15g sort id\n"
-            "dump E all atom 10 " + d + "e.dump\n"
+            "dump E all atom 10 " +
+            d +
+            "e.dump\n"
             // dump atom knows only "format line": id type xs ys zs ix iy iz
             "dump_modify E image yes format line \"%d %d %20.15g %20.15g %20.15g %d %d %d\"\n");
     refs_ = new std::vector<Reference>;
@@ -230,7 +238,8 @@ DataRef data_snapshot(const Lammps& lmp, bool molecular, bool charged) {
     if (lammps_extract_setting(lmp.handle(), "tagint") == 4) {
       std::vector<int> b(3 * nbonds);
       lammps_gather_bonds(lmp.handle(), b.data());
-      for (std::size_t k = 0; k < nbonds; ++k) r.bonds.emplace_back(b[3 * k], b[3 * k + 1], b[3 * k + 2]);
+      for (std::size_t k = 0; k < nbonds; ++k)
+        r.bonds.emplace_back(b[3 * k], b[3 * k + 1], b[3 * k + 2]);
     } else {
       std::vector<std::int64_t> b(3 * nbonds);
       lammps_gather_bonds(lmp.handle(), b.data());
