@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 
+#include "pdcg/atomistic/data_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/parse.hpp"
@@ -579,6 +580,28 @@ AtomFileKind detect_atom_file_kind(const std::string& path) {
     return t.substr(0, 5) == "ITEM:" ? AtomFileKind::dump : AtomFileKind::data;
   }
   return AtomFileKind::data;
+}
+
+Atoms read_atoms(const std::string& path, long frame) {
+  if (detect_atom_file_kind(path) == AtomFileKind::data) {
+    if (frame != 0 && frame != -1)
+      throw InputError("a data file holds one configuration")
+          .source(path)
+          .key("frame")
+          .value(std::to_string(frame))
+          .expected("frame 0 or -1 (last)");
+    return read_data_file(path);
+  }
+  DumpReader dump(path);
+  const long n = static_cast<long>(dump.nframes());
+  const long k = frame < 0 ? n + frame : frame;
+  if (k < 0 || k >= n)
+    throw InputError("frame index out of range")
+        .source(path)
+        .key("frame")
+        .value(std::to_string(frame))
+        .expected(fmt::format("0 .. {} or -1 .. -{} (the dump has {} frames)", n - 1, n, n));
+  return dump.frame(static_cast<std::size_t>(k));
 }
 
 }  // namespace pdcg::atomistic

@@ -122,4 +122,9 @@ enum class AtomFileKind { dump, data };
 /// Throws InputError when the file cannot be opened.
 AtomFileKind detect_atom_file_kind(const std::string& path);
 
+/// One configuration from either kind of file: frame `frame` of a dump
+/// (negative counts from the end: −1 is the last frame), or the data file
+/// (then `frame` must be 0 or −1).
+Atoms read_atoms(const std::string& path, long frame = -1);
+
 }  // namespace pdcg::atomistic

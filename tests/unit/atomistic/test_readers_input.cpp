@@ -423,3 +423,17 @@ TEST_F(Files, DataTypeLabelSectionsAreSkipped) {
   EXPECT_DOUBLE_EQ(d.atoms.type_mass[2], 1.008);
 }
 }  // namespace
+
+namespace {
+TEST_F(Files, ReadAtomsPicksTheKindAndFrame) {
+  const auto d = write("two.dump", std::string(kOrthoDump) + frame2());
+  EXPECT_EQ(read_atoms(d).timestep, 100);
+  EXPECT_EQ(read_atoms(d, 0).size(), 3u);
+  EXPECT_EQ(read_atoms(d, -2).x, read_atoms(d, 1).x);
+  expect_error([&] { (void)read_atoms(d, 2); }, d, 0, "frame index out of range");
+  expect_error([&] { (void)read_atoms(d, -3); }, d, 0, "frame index out of range");
+  const auto p = write("a.data", kData);
+  EXPECT_EQ(read_atoms(p).size(), 4u);
+  expect_error([&] { (void)read_atoms(p, 1); }, p, 0, "a data file holds one configuration");
+}
+}  // namespace
