@@ -27,26 +27,38 @@ AtomStyle atom_style_from_string(std::string_view n) {
 
 std::string_view to_string(AtomStyle s) {
   switch (s) {
-    case AtomStyle::atomic: return "atomic";
-    case AtomStyle::charge: return "charge";
-    case AtomStyle::bond: return "bond";
-    case AtomStyle::angle: return "angle";
-    case AtomStyle::molecular: return "molecular";
-    case AtomStyle::full: return "full";
-    case AtomStyle::unknown: break;
+    case AtomStyle::atomic:
+      return "atomic";
+    case AtomStyle::charge:
+      return "charge";
+    case AtomStyle::bond:
+      return "bond";
+    case AtomStyle::angle:
+      return "angle";
+    case AtomStyle::molecular:
+      return "molecular";
+    case AtomStyle::full:
+      return "full";
+    case AtomStyle::unknown:
+      break;
   }
   return "unknown";
 }
 
 std::vector<std::string> atom_style_columns(AtomStyle s) {
   switch (s) {
-    case AtomStyle::atomic: return {"id", "type", "x", "y", "z"};
-    case AtomStyle::charge: return {"id", "type", "q", "x", "y", "z"};
+    case AtomStyle::atomic:
+      return {"id", "type", "x", "y", "z"};
+    case AtomStyle::charge:
+      return {"id", "type", "q", "x", "y", "z"};
     case AtomStyle::bond:
     case AtomStyle::angle:
-    case AtomStyle::molecular: return {"id", "mol", "type", "x", "y", "z"};
-    case AtomStyle::full: return {"id", "mol", "type", "q", "x", "y", "z"};
-    case AtomStyle::unknown: break;
+    case AtomStyle::molecular:
+      return {"id", "mol", "type", "x", "y", "z"};
+    case AtomStyle::full:
+      return {"id", "mol", "type", "q", "x", "y", "z"};
+    case AtomStyle::unknown:
+      break;
   }
   return {};
 }
@@ -57,14 +69,25 @@ using detail::ByteSource;
 using detail::LineReader;
 
 /// Header count keywords (the words after the number).
-constexpr std::array<std::string_view, 19> kCountKeywords{
-    "atoms",          "bonds",          "angles",
-    "dihedrals",      "impropers",      "atom types",
-    "bond types",     "angle types",    "dihedral types",
-    "improper types", "extra bond per atom", "extra angle per atom",
-    "extra dihedral per atom", "extra improper per atom", "extra special per atom",
-    "ellipsoids",     "lines",          "triangles",
-    "bodies"};
+constexpr std::array<std::string_view, 19> kCountKeywords{"atoms",
+                                                          "bonds",
+                                                          "angles",
+                                                          "dihedrals",
+                                                          "impropers",
+                                                          "atom types",
+                                                          "bond types",
+                                                          "angle types",
+                                                          "dihedral types",
+                                                          "improper types",
+                                                          "extra bond per atom",
+                                                          "extra angle per atom",
+                                                          "extra dihedral per atom",
+                                                          "extra improper per atom",
+                                                          "extra special per atom",
+                                                          "ellipsoids",
+                                                          "lines",
+                                                          "triangles",
+                                                          "bodies"};
 
 /// Section keyword → header count(s) that give its number of lines.
 std::int64_t section_lines(std::string_view s, const std::map<std::string, std::int64_t>& c,
@@ -75,7 +98,11 @@ std::int64_t section_lines(std::string_view s, const std::map<std::string, std::
   };
   known = true;
   if (s == "Atoms" || s == "Velocities") return get("atoms");
-  if (s == "Masses" || s == "Pair Coeffs") return get("atom types");
+  if (s == "Masses" || s == "Pair Coeffs" || s == "Atom Type Labels") return get("atom types");
+  if (s == "Bond Type Labels") return get("bond types");
+  if (s == "Angle Type Labels") return get("angle types");
+  if (s == "Dihedral Type Labels") return get("dihedral types");
+  if (s == "Improper Type Labels") return get("improper types");
   if (s == "PairIJ Coeffs") return get("atom types") * (get("atom types") + 1) / 2;
   if (s == "Bonds") return get("bonds");
   if (s == "Angles") return get("angles");
@@ -99,12 +126,14 @@ constexpr const char* kKnownSections =
     "Atoms, Velocities, Masses, Bonds, Angles, Dihedrals, Impropers, Pair Coeffs, PairIJ Coeffs, "
     "Bond Coeffs, Angle Coeffs, Dihedral Coeffs, Improper Coeffs, BondBond Coeffs, BondAngle "
     "Coeffs, MiddleBondTorsion Coeffs, EndBondTorsion Coeffs, AngleTorsion Coeffs, "
-    "AngleAngleTorsion Coeffs, BondBond13 Coeffs, AngleAngle Coeffs, Ellipsoids, Lines, Triangles";
+    "AngleAngleTorsion Coeffs, BondBond13 Coeffs, AngleAngle Coeffs, Ellipsoids, Lines, Triangles, "
+    "Atom/Bond/Angle/Dihedral/Improper Type Labels";
 
 /// Splits a line into its content (before '#') and its comment (after '#'), both trimmed.
 std::string_view strip_comment(std::string_view line, std::string_view* comment = nullptr) {
   const auto hash = line.find('#');
-  if (comment) *comment = hash == std::string_view::npos ? std::string_view{} : trim(line.substr(hash + 1));
+  if (comment)
+    *comment = hash == std::string_view::npos ? std::string_view{} : trim(line.substr(hash + 1));
   return trim(line.substr(0, hash));
 }
 
@@ -202,8 +231,9 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
     std::size_t nnum = 0;
     while (nnum < tok_.size() && !starts_alpha(tok_[nnum])) ++nnum;
     const std::string_view words =
-        nnum < tok_.size() ? trim(content.substr(static_cast<std::size_t>(tok_[nnum].data() - content.data())))
-                           : std::string_view{};
+        nnum < tok_.size()
+            ? trim(content.substr(static_cast<std::size_t>(tok_[nnum].data() - content.data())))
+            : std::string_view{};
     const long ln = r_.line_number();
     auto need = [&](std::size_t k) {
       if (nnum != k)
@@ -238,7 +268,8 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
       fail(ln, "unknown header line", content,
            "'N atoms', 'N atom types', 'N bonds', 'N bond types', ..., 'xlo xhi', 'ylo yhi', "
            "'zlo zhi', 'xy xz yz', or a section keyword",
-           "check the spelling; header lines must come before the first section");
+           "check the spelling; header lines must come before the first section. (Text dumps "
+           "start with 'ITEM:'; xyz files and other formats are not read.)");
     }
   }
   more = false;
@@ -283,9 +314,13 @@ void Parser::read_atoms(std::int64_t n, std::string_view style_comment) {
     if (style == AtomStyle::unknown) {  // infer from the first line
       switch (tok_.size()) {
         case 5:
-        case 8: style = AtomStyle::atomic; break;
+        case 8:
+          style = AtomStyle::atomic;
+          break;
         case 7:
-        case 10: style = AtomStyle::full; break;
+        case 10:
+          style = AtomStyle::full;
+          break;
         default:
           fail(ln, fmt::format("cannot tell the atom style from {} columns", tok_.size()),
                fmt::format("{}", fmt::join(tok_, " ")),
@@ -327,7 +362,9 @@ void Parser::read_atoms(std::int64_t n, std::string_view style_comment) {
       if (a.image.empty()) a.image.assign(3 * N, 0);
       for (int c = 0; c < 3; ++c)
         a.image[3 * i + static_cast<std::size_t>(c)] =
-            static_cast<int>(integer(k++, c == 0 ? "ix" : c == 1 ? "iy" : "iz"));
+            static_cast<int>(integer(k++, c == 0   ? "ix"
+                                          : c == 1 ? "iy"
+                                                   : "iz"));
     }
     atom_line_[i] = ln;
     const auto [it, fresh] = index_.emplace(a.id[i], i);
@@ -387,7 +424,8 @@ void Parser::read_velocities(std::int64_t n) {
       fail(ln, "Velocities: duplicate atom id", tok_[0],
            fmt::format("each atom once (also on line {})", seen[i]), {});
     seen[i] = ln;
-    for (std::size_t c = 0; c < 3; ++c) a.v[3 * i + c] = num(1 + c, c == 0 ? "vx" : c == 1 ? "vy" : "vz");
+    for (std::size_t c = 0; c < 3; ++c)
+      a.v[3 * i + c] = num(1 + c, c == 0 ? "vx" : c == 1 ? "vy" : "vz");
   });
 }
 
@@ -420,12 +458,17 @@ void Parser::read_bonds(std::int64_t n) {
 DataFile Parser::run() {
   std::string_view line;
   if (!r_.next(line)) fail(1, "empty data file", {}, "a title line, a header and sections", {});
+  if (line.find('\0') != std::string_view::npos)
+    fail(1, "binary file", "NUL bytes on line 1", "a text LAMMPS data file or text dump",
+         "binary dumps and restart files are not read; write a text dump (dump custom) or a "
+         "data file (write_data), or convert with LAMMPS's tools/binary2txt");
   out_.title = std::string(trim(line));
   out_.compressed = src_->compressed();
   std::string_view section, comment;
   bool more = false;
   header(section, comment, more);
-  out_.atoms.ntypes = static_cast<int>(out_.counts.count("atom types") ? out_.counts["atom types"] : 0);
+  out_.atoms.ntypes =
+      static_cast<int>(out_.counts.count("atom types") ? out_.counts["atom types"] : 0);
   while (more) {
     const long ln = r_.line_number();
     const std::string name(section);
@@ -456,8 +499,7 @@ DataFile Parser::run() {
     more = next_content(content, &comment);
     if (more) {
       if (!starts_alpha(content))
-        fail(r_.line_number(),
-             fmt::format("expected a section keyword after section {}", name),
+        fail(r_.line_number(), fmt::format("expected a section keyword after section {}", name),
              std::string(content.substr(0, 60)),
              fmt::format("{} lines in section {} (from the header), then a keyword", n, name),
              "the section has more lines than the header declares; fix the header count");

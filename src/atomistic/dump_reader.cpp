@@ -7,10 +7,12 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <limits>
 #include <mutex>
 #include <optional>
 
+#include "pdcg/atomistic/data_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/parse.hpp"
@@ -30,8 +32,8 @@ bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 enum class Dest : std::uint8_t { skip, id, type, mol, charge, mass, pos, image, vel, force, extra };
 struct ColumnPlan {
   Dest dest = Dest::skip;
-  int component = 0;        ///< 0..2 for vectors
-  std::string extra_name;   ///< for Dest::extra
+  int component = 0;       ///< 0..2 for vectors
+  std::string extra_name;  ///< for Dest::extra
 };
 enum class PositionKind { none, unwrapped, wrapped, scaled_unwrapped, scaled };
 
@@ -133,12 +135,16 @@ struct DumpReader::Impl {
   std::string path;
   std::unique_ptr<ByteSource> src;
   std::unique_ptr<LineReader> lines;
-  std::vector<DumpFrameInfo> frames;
-  std::vector<std::vector<std::string>> column_sets;
+  std::deque<DumpFrameInfo> frames;  // deque: references stay valid as the index grows
+  std::deque<std::vector<std::string>> column_sets;
   std::string units;
+  bool complete = false;            // every frame indexed
+  std::uint64_t resume_offset = 0;  // where indexing continues
+  long resume_line = 1;
   mutable std::mutex mutex;
 
-  void index();
+  /// Indexes frames until frame `wanted` is known or the file ends.
+  void index_until(std::size_t wanted);
   Atoms parse(std::size_t n);
 
   [[noreturn]] void fail_at(long line, std::string problem, std::string_view value,
@@ -152,8 +158,10 @@ struct DumpReader::Impl {
   }
 };
 
-void DumpReader::Impl::index() {
+void DumpReader::Impl::index_until(std::size_t wanted) {
+  if (complete || frames.size() > wanted) return;
   LineReader& r = *lines;
+  r.seek(resume_offset, resume_line);
   std::string_view line;
   std::vector<std::string_view> tok;
   tok.reserve(16);
@@ -161,8 +169,8 @@ void DumpReader::Impl::index() {
   // Reads the value line after an ITEM line.
   auto value_line = [&](std::string_view item) -> std::string_view {
     if (!r.next(line) || is_item(line))
-      fail_at(r.line_number(), fmt::format("truncated frame: no value after 'ITEM: {}'", item),
-              {}, fmt::format("the value of ITEM: {} on the next line", item),
+      fail_at(r.line_number(), fmt::format("truncated frame: no value after 'ITEM: {}'", item), {},
+              fmt::format("the value of ITEM: {} on the next line", item),
               "the file was cut short; regenerate it or drop the incomplete frame");
     return line;
   };
@@ -224,7 +232,8 @@ void DumpReader::Impl::index() {
                   "three boundary flags, e.g. 'pp pp ff'", {});
         for (std::size_t k = 0; k < flags.size(); ++k) {
           const auto f = flags[k];
-          const bool ok = f.size() == 2 && std::string_view("pfsm").find(f[0]) != std::string_view::npos &&
+          const bool ok = f.size() == 2 &&
+                          std::string_view("pfsm").find(f[0]) != std::string_view::npos &&
                           std::string_view("pfsm").find(f[1]) != std::string_view::npos;
           if (!ok)
             fail_at(item_line, "unknown boundary flag", f, "two of p, f, s, m (e.g. pp, fs)", {});
@@ -296,12 +305,13 @@ void DumpReader::Impl::index() {
                 "ATOMS)",
                 "a header line is missing; the file is corrupt");
     }
-    const char* missing = !got_step ? "TIMESTEP" : !got_natoms ? "NUMBER OF ATOMS"
-                                                 : !got_box    ? "BOX BOUNDS"
-                                                               : nullptr;
+    const char* missing = !got_step     ? "TIMESTEP"
+                          : !got_natoms ? "NUMBER OF ATOMS"
+                          : !got_box    ? "BOX BOUNDS"
+                                        : nullptr;
     if (missing)
-      fail_at(r.line_number(), fmt::format("missing 'ITEM: {}' section", missing),
-              "ITEM: ATOMS", fmt::format("'ITEM: {}' before 'ITEM: ATOMS' in every frame", missing),
+      fail_at(r.line_number(), fmt::format("missing 'ITEM: {}' section", missing), "ITEM: ATOMS",
+              fmt::format("'ITEM: {}' before 'ITEM: ATOMS' in every frame", missing),
               "the frame header is incomplete; the file is corrupt or not a LAMMPS dump");
     std::size_t set = 0;
     while (set < column_sets.size() && column_sets[set] != cols) ++set;
@@ -320,9 +330,13 @@ void DumpReader::Impl::index() {
                 "incomplete frame");
     }
     frames.push_back(fi);
+    resume_offset = r.offset();
+    resume_line = r.line_number() + 1;
+    if (frames.size() > wanted) return;
     off = r.offset();
     have = r.next(line);
   }
+  complete = true;
   if (frames.empty())
     fail_at(0, "empty dump file", {}, "at least one frame", "give a non-empty LAMMPS text dump");
 }
@@ -358,17 +372,39 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
     const auto k = static_cast<std::size_t>(c.component);
     Sink& s = sinks[j];
     switch (c.dest) {
-      case Dest::skip: s = {Sink::skip, nullptr, 1}; break;
-      case Dest::id: s = {Sink::i64, a.id.data(), 1}; break;
-      case Dest::type: s = {Sink::i32, a.type.data(), 1}; break;
-      case Dest::mol: s = {Sink::i64, a.molecule.data(), 1}; break;
-      case Dest::charge: s = {Sink::f64, a.charge.data(), 1}; break;
-      case Dest::mass: s = {Sink::f64, a.mass.data(), 1}; break;
-      case Dest::pos: s = {Sink::f64, a.x.data() + k, 3}; break;
-      case Dest::image: s = {Sink::i32, a.image.data() + k, 3}; break;
-      case Dest::vel: s = {Sink::f64, a.v.data() + k, 3}; break;
-      case Dest::force: s = {Sink::f64, a.f.data() + k, 3}; break;
-      case Dest::extra: s = {Sink::f64, extra[k]->data(), 1}; break;
+      case Dest::skip:
+        s = {Sink::skip, nullptr, 1};
+        break;
+      case Dest::id:
+        s = {Sink::i64, a.id.data(), 1};
+        break;
+      case Dest::type:
+        s = {Sink::i32, a.type.data(), 1};
+        break;
+      case Dest::mol:
+        s = {Sink::i64, a.molecule.data(), 1};
+        break;
+      case Dest::charge:
+        s = {Sink::f64, a.charge.data(), 1};
+        break;
+      case Dest::mass:
+        s = {Sink::f64, a.mass.data(), 1};
+        break;
+      case Dest::pos:
+        s = {Sink::f64, a.x.data() + k, 3};
+        break;
+      case Dest::image:
+        s = {Sink::i32, a.image.data() + k, 3};
+        break;
+      case Dest::vel:
+        s = {Sink::f64, a.v.data() + k, 3};
+        break;
+      case Dest::force:
+        s = {Sink::f64, a.f.data() + k, 3};
+        break;
+      case Dest::extra:
+        s = {Sink::f64, extra[k]->data(), 1};
+        break;
     }
   }
 
@@ -429,11 +465,11 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
     }
     while (p < e && blank(*p)) ++p;
     if (p != e)
-      fail_at(r.line_number(),
-              fmt::format("atom line has more values than the {} columns ITEM: ATOMS declares",
-                          ncols),
-              std::string(line.substr(0, 80)), fmt::format("{} values", ncols),
-              "the header does not match the data; the file is corrupt");
+      fail_at(
+          r.line_number(),
+          fmt::format("atom line has more values than the {} columns ITEM: ATOMS declares", ncols),
+          std::string(line.substr(0, 80)), fmt::format("{} values", ncols),
+          "the header does not match the data; the file is corrupt");
   }
 
   if (!plan.has_id) {
@@ -480,8 +516,9 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
         .key("id")
         .value(err.bad_value())
         .expected(fmt::format("each atom id once per frame (id {} is also on line {})", dup, first))
-        .fix("the file merges two systems or is corrupt; renumber the atoms (LAMMPS reset_atoms "
-             "id / reset_atom_ids)");
+        .fix(
+            "the file merges two systems or is corrupt; renumber the atoms (LAMMPS reset_atoms "
+            "id / reset_atom_ids)");
   }
   return a;
 }
@@ -490,7 +527,7 @@ DumpReader::DumpReader(const std::string& path) : impl_(std::make_unique<Impl>()
   impl_->path = path;
   impl_->src = ByteSource::open(path);
   impl_->lines = std::make_unique<LineReader>(*impl_->src);
-  impl_->index();
+  impl_->index_until(0);
 }
 DumpReader::~DumpReader() = default;
 DumpReader::DumpReader(DumpReader&&) noexcept = default;
@@ -498,15 +535,25 @@ DumpReader& DumpReader::operator=(DumpReader&&) noexcept = default;
 
 const std::string& DumpReader::path() const { return impl_->path; }
 bool DumpReader::compressed() const { return impl_->src->compressed(); }
-std::size_t DumpReader::nframes() const { return impl_->frames.size(); }
+std::size_t DumpReader::nframes() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->index_until(std::numeric_limits<std::size_t>::max() - 1);
+  return impl_->frames.size();
+}
 const std::vector<std::string>& DumpReader::columns() const { return columns(0); }
 const std::vector<std::string>& DumpReader::columns(std::size_t n) const {
-  return impl_->column_sets[info(n).column_set];
+  const std::size_t set = info(n).column_set;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->column_sets[set];
 }
-const std::vector<std::vector<std::string>>& DumpReader::column_sets() const {
-  return impl_->column_sets;
+std::vector<std::vector<std::string>> DumpReader::column_sets() const {
+  (void)nframes();
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return {impl_->column_sets.begin(), impl_->column_sets.end()};
 }
 const DumpFrameInfo& DumpReader::info(std::size_t n) const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->index_until(n);
   if (n >= impl_->frames.size())
     throw InputError("frame index out of range")
         .source(impl_->path)
@@ -533,6 +580,28 @@ AtomFileKind detect_atom_file_kind(const std::string& path) {
     return t.substr(0, 5) == "ITEM:" ? AtomFileKind::dump : AtomFileKind::data;
   }
   return AtomFileKind::data;
+}
+
+Atoms read_atoms(const std::string& path, long frame) {
+  if (detect_atom_file_kind(path) == AtomFileKind::data) {
+    if (frame != 0 && frame != -1)
+      throw InputError("a data file holds one configuration")
+          .source(path)
+          .key("frame")
+          .value(std::to_string(frame))
+          .expected("frame 0 or -1 (last)");
+    return read_data_file(path);
+  }
+  DumpReader dump(path);
+  const long n = static_cast<long>(dump.nframes());
+  const long k = frame < 0 ? n + frame : frame;
+  if (k < 0 || k >= n)
+    throw InputError("frame index out of range")
+        .source(path)
+        .key("frame")
+        .value(std::to_string(frame))
+        .expected(fmt::format("0 .. {} or -1 .. -{} (the dump has {} frames)", n - 1, n, n));
+  return dump.frame(static_cast<std::size_t>(k));
 }
 
 }  // namespace pdcg::atomistic

@@ -22,9 +22,9 @@ class ByteSource {
   virtual ~ByteSource() = default;
   /// Reads up to n bytes; returns 0 at end of file.
   virtual std::size_t read(char* dst, std::size_t n) = 0;
-  /// Moves to an uncompressed byte offset. For gzip this is emulated by zlib
-  /// (decompressing forward from the current position, or from the start when
-  /// seeking backwards), so sequential access stays linear in the file size.
+  /// Moves to an uncompressed byte offset. For gzip: decompresses forward from
+  /// the current position or from the last access point before the offset
+  /// (access points are recorded every 4 MiB of output while reading forward).
   virtual void seek(std::uint64_t offset) = 0;
   virtual bool compressed() const = 0;
 

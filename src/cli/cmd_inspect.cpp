@@ -95,10 +95,18 @@ std::string json_string(std::string_view v) {
   std::string out = "\"";
   for (const char c : v) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20)
           out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
@@ -176,10 +184,10 @@ void print_text(const std::string& path, const Summary& s) {
               fmt::format("{}, {}, {}", b.lo.x(), b.lo.y(), b.lo.z()).c_str(),
               fmt::format("{}, {}, {}", b.hi.x(), b.hi.y(), b.hi.z()).c_str());
   if (b.triclinic()) std::printf("  tilt:     xy %g  xz %g  yz %g\n", b.xy, b.xz, b.yz);
-  std::printf("  periodic: %s %s %s%s\n", b.periodic[0] ? "p" : "f", b.periodic[1] ? "p" : "f",
-              b.periodic[2] ? "p" : "f",
-              s.kind == "data" ? " (a data file does not say; LAMMPS takes it from 'boundary')"
-                               : "");
+  std::printf(
+      "  periodic: %s %s %s%s\n", b.periodic[0] ? "p" : "f", b.periodic[1] ? "p" : "f",
+      b.periodic[2] ? "p" : "f",
+      s.kind == "data" ? " (a data file does not say; LAMMPS takes it from 'boundary')" : "");
   std::printf("  columns:  %s\n", fmt::format("{}", fmt::join(s.columns, " ")).c_str());
 }
 

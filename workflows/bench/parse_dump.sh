@@ -7,10 +7,13 @@
 #   WORK_DIR   where the dump is generated (default: /tmp/pdcg-bench-dump); kept for reruns
 # Env: FRAMES (default 15) frames of CELLS^3 fcc cells (default 63 -> 1,000,188 atoms),
 #      columns `id type x y z` printed with %20.15g: ~74 MB per frame.
+#      GZ=1 also times the gzip -1 compressed copy (pdcg and LAMMPS read_dump, which
+#      reads .gz through a `gzip -dc` pipe).
 #
 # Measured (wall clock, file already in the page cache — it is read once before timing):
 #   pdcg inspect        index all frames + parse frame 0 (what `pdcg inspect` does)
-#   pdcg index          one pass over the file recording every frame
+#   pdcg open + frame 0 a fresh DumpReader, frame(0): the lazy index stops after frame 0
+#   pdcg index          one pass over the file recording every frame (nframes())
 #   pdcg frame 0 / last parse one frame (random access through the index)
 #   pdcg all frames     parse every frame into Atoms
 #   LAMMPS read_dump    `read_dump FILE <first step> x y z box yes add keep` (parses frame 0)
@@ -87,9 +90,10 @@ p = {l.split()[0]: float(l.split()[1]) for l in open(sys.argv[7])}
 lf, ll = first - base, last - base
 mbs = lambda b, t: b / 1e6 / t
 print(f"file: {nbytes/1e9:.2f} GB, {int(p['frames'])} frames, frame 0 = {f0/1e6:.1f} MB")
-print(f"{'what':44s} {'seconds':>8s} {'MB/s':>8s}")
+print(f"{'what':48s} {'seconds':>8s} {'MB/s':>8s}")
 rows = [
     ("pdcg inspect (index all + parse frame 0)", t_inspect, nbytes),
+    ("pdcg open + frame 0 (lazy index: frame 0 only)", p["open_frame0_seconds"], f0),
     ("pdcg index (one pass over the file)", p["index_seconds"], nbytes),
     ("pdcg parse frame 0", p["frame0_seconds"], f0),
     ("pdcg parse last frame (random access)", p["last_seconds"], f0),
@@ -99,9 +103,41 @@ rows = [
     ("LAMMPS read_dump last frame (scans all)", ll, nbytes),
 ]
 for name, t, b in rows:
-    print(f"{name:44s} {t:8.3f} {mbs(b, t):8.1f}")
-print(f"ratio frame 0:    LAMMPS read_dump / pdcg parse = {lf / p['frame0_seconds']:.1f}x")
+    print(f"{name:48s} {t:8.3f} {mbs(b, t):8.1f}")
+print(f"ratio frame 0:    LAMMPS read_dump / pdcg (open + frame 0) = {lf / p['open_frame0_seconds']:.1f}x")
 print(f"ratio last frame: LAMMPS read_dump / pdcg (index + parse) = "
       f"{ll / (p['index_seconds'] + p['last_seconds']):.1f}x")
 print(f"(LAMMPS start-up {base:.3f} s subtracted)")
 PY
+
+if [ "${GZ:-0}" = 1 ]; then
+  [ -s "$dump.gz" ] && [ "$dump.gz" -nt "$dump" ] || gzip -1 -k -f "$dump"
+  gzbytes=$(stat -c %s "$dump.gz")
+  cat "$dump.gz" > /dev/null
+  "$build/bench_parse_dump" "$dump.gz" > pdcg_gz.txt
+  t_lmp_gz_first=$(lammps_time "read_dump $dump.gz 1 x y z box yes add keep")
+  t_lmp_gz_last=$(lammps_time "read_dump $dump.gz $frames x y z box yes add keep")
+  python3 - "$bytes" "$gzbytes" "$frame0_bytes" "$t_lmp_base" "$t_lmp_gz_first" "$t_lmp_gz_last" pdcg_gz.txt <<'PY'
+import sys
+nbytes, gz, f0, base, first, last = map(float, sys.argv[1:7])
+p = {l.split()[0]: float(l.split()[1]) for l in open(sys.argv[7])}
+lf, ll = first - base, last - base
+mbs = lambda b, t: b / 1e6 / t
+print(f"\ngzip -1 copy: {gz/1e9:.2f} GB compressed (MB/s below are of uncompressed text)")
+rows = [
+    ("pdcg open + frame 0 (lazy index: frame 0 only)", p["open_frame0_seconds"], f0),
+    ("pdcg index (decompress all, access points)", p["index_seconds"], nbytes),
+    ("pdcg parse frame 0 (after index)", p["frame0_seconds"], f0),
+    ("pdcg parse last frame (random access)", p["last_seconds"], f0),
+    ("pdcg parse all frames", p["all_seconds"], nbytes),
+    ("pdcg index + parse last frame", p["index_seconds"] + p["last_seconds"], nbytes),
+    ("LAMMPS read_dump .gz frame 0", lf, f0),
+    ("LAMMPS read_dump .gz last frame", ll, nbytes),
+]
+for name, t, b in rows:
+    print(f"{name:48s} {t:8.3f} {mbs(b, t):8.1f}")
+print(f"ratio frame 0:    LAMMPS / pdcg (open + frame 0) = {lf / p['open_frame0_seconds']:.2f}x")
+print(f"ratio last frame: LAMMPS / pdcg (index + parse last) = "
+      f"{ll / (p['index_seconds'] + p['last_seconds']):.2f}x")
+PY
+fi

@@ -52,13 +52,14 @@ std::vector<std::string> atom_style_columns(AtomStyle style);
 
 /// Everything read from a data file.
 struct DataFile {
-  Atoms atoms;                                  ///< sorted by id
-  AtomStyle style = AtomStyle::unknown;         ///< style used for the Atoms section
-  std::string title;                            ///< first line
-  std::map<std::string, std::int64_t> counts;   ///< header counts by keyword ("atoms", "bond types", ...)
-  std::vector<std::string> sections;            ///< section keywords in file order
-  std::vector<std::string> columns;             ///< Atoms columns (incl. ix iy iz if present)
-  bool compressed = false;                      ///< the file was gzip-compressed
+  Atoms atoms;                           ///< sorted by id
+  AtomStyle style = AtomStyle::unknown;  ///< style used for the Atoms section
+  std::string title;                     ///< first line
+  std::map<std::string, std::int64_t>
+      counts;                         ///< header counts by keyword ("atoms", "bond types", ...)
+  std::vector<std::string> sections;  ///< section keywords in file order
+  std::vector<std::string> columns;   ///< Atoms columns (incl. ix iy iz if present)
+  bool compressed = false;            ///< the file was gzip-compressed
 };
 
 /// Reads a data file. `hint` is used when the Atoms section has no style

@@ -17,12 +17,17 @@
 ///   N lines, one value per column
 /// \endverbatim
 ///
-/// The constructor reads the file once and records, for every frame, the byte
-/// offset (uncompressed offset for gzip) and line number of its atom lines
-/// plus its header (timestep, N, box, columns). frame(n) then seeks there and
-/// parses only those N lines: random access without parsing earlier frames.
-/// For gzip, seeking is emulated by zlib (forward decompression, or from the
-/// start when going backwards); reading frames in increasing order stays linear.
+/// The reader keeps an index: for every frame, the byte offset (uncompressed
+/// offset for gzip) and line number of its atom lines plus its header
+/// (timestep, N, box, columns). The index grows lazily in one forward pass —
+/// the constructor indexes frame 0, info(n)/frame(n) index up to frame n,
+/// nframes() to the end of the file — and atom lines are only counted while
+/// indexing. frame(n) then seeks to its atom lines and parses only those N
+/// lines: random access without parsing any other frame.
+/// For gzip the offsets are uncompressed offsets; while indexing, the reader
+/// records an access point every 4 MiB of text (compressed offset, bit offset,
+/// last 32 KiB of output: the method of zlib's examples/zran.c), so frame(n)
+/// restarts decompression at most 4 MiB before the frame, in any order.
 ///
 /// Triclinic boxes: a dump stores the bounding box; the box itself is
 /// (Howto_triclinic.html, "Output of the triclinic box")
@@ -64,20 +69,22 @@ struct DumpFrameInfo {
   std::int64_t timestep = 0;
   std::int64_t natoms = 0;
   Box box;
-  double time = 0.0;        ///< `ITEM: TIME` value; NaN when the dump has none
-  std::uint64_t offset = 0;  ///< byte offset (uncompressed) of the frame's first ITEM line
+  double time = 0.0;               ///< `ITEM: TIME` value; NaN when the dump has none
+  std::uint64_t offset = 0;        ///< byte offset (uncompressed) of the frame's first ITEM line
   std::uint64_t atoms_offset = 0;  ///< byte offset of its first atom line
-  long line = 0;             ///< line number of the frame's first ITEM line
-  long atoms_line = 0;       ///< line number of its first atom line
-  std::size_t column_set = 0;  ///< index into DumpReader::column_sets()
+  long line = 0;                   ///< line number of the frame's first ITEM line
+  long atoms_line = 0;             ///< line number of its first atom line
+  std::size_t column_set = 0;      ///< index into DumpReader::column_sets()
 };
 
 class DumpReader {
  public:
-  /// Opens and indexes `path` (plain text or gzip, detected from the content).
-  /// Throws InputError for anything malformed in a frame header, a truncated
+  /// Opens `path` (plain text or gzip, detected from the content) and indexes
+  /// its first frame. Indexing (here, and later in nframes(), info(), frame())
+  /// throws InputError for anything malformed in a frame header, a truncated
   /// frame (fewer atom lines than `ITEM: NUMBER OF ATOMS` says), or a missing
-  /// `ITEM:` section, naming the file and line.
+  /// `ITEM:` section, naming the file and line. A problem in frame k is
+  /// reported when the index first reaches frame k.
   explicit DumpReader(const std::string& path);
   ~DumpReader();
   DumpReader(DumpReader&&) noexcept;
@@ -85,12 +92,14 @@ class DumpReader {
 
   const std::string& path() const;
   bool compressed() const;
+  /// Number of frames (indexes the whole file on the first call).
   std::size_t nframes() const;
   /// Column names of frame 0 (`ITEM: ATOMS ...`).
   const std::vector<std::string>& columns() const;
   /// Column names of frame n (a dump may change its columns between frames).
   const std::vector<std::string>& columns(std::size_t n) const;
-  const std::vector<std::vector<std::string>>& column_sets() const;
+  /// The distinct column lists of the file (indexes the whole file).
+  std::vector<std::vector<std::string>> column_sets() const;
   const DumpFrameInfo& info(std::size_t n) const;
   /// `ITEM: UNITS` value if the dump has one, else empty.
   const std::string& units() const;
@@ -112,5 +121,10 @@ class DumpReader {
 enum class AtomFileKind { dump, data };
 /// Throws InputError when the file cannot be opened.
 AtomFileKind detect_atom_file_kind(const std::string& path);
+
+/// One configuration from either kind of file: frame `frame` of a dump
+/// (negative counts from the end: −1 is the last frame), or the data file
+/// (then `frame` must be 0 or −1).
+Atoms read_atoms(const std::string& path, long frame = -1);
 
 }  // namespace pdcg::atomistic

@@ -6,10 +6,10 @@
 #include <library.h>
 
 #include <Eigen/Core>
-
-#include "scratch_dir.hpp"
 #include <string>
 #include <vector>
+
+#include "scratch_dir.hpp"
 
 namespace pdcg::test {
 

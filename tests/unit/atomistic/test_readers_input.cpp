@@ -1,12 +1,16 @@
 // Readers on hand-written files: header handling (orthogonal box, boundary
 // flags, extra columns, ITEM: UNITS/TIME), and one test per kind of bad input,
 // each checking that the message names the file and the line.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <zlib.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
+#include <tuple>
 
 #include "pdcg/atomistic/data_file.hpp"
 #include "pdcg/atomistic/dump_reader.hpp"
@@ -114,7 +118,10 @@ TEST_F(Files, TruncatedFrame) {
   std::string t = std::string(kOrthoDump) + frame2();
   erase_line(t, "1 2 9.5", true);  // drop the last atom line of frame 2 (line 28)
   const auto p = write("t.dump", t);
-  expect_error([&] { DumpReader r(p); }, p, 27, "truncated frame 1 (timestep 100): 2 of 3");
+  DumpReader r(p);  // frame 0 is fine; frame 1 is reported when the index reaches it
+  EXPECT_EQ(r.frame(0).size(), 3u);
+  expect_error([&] { (void)r.nframes(); }, p, 27, "truncated frame 1 (timestep 100): 2 of 3");
+  expect_error([&] { (void)r.frame(1); }, p, 27, "truncated frame 1 (timestep 100): 2 of 3");
 }
 
 TEST_F(Files, FrameWithTooFewAtomLinesBeforeNextFrame) {
@@ -192,6 +199,9 @@ TEST_F(Files, NotADump) {
   expect_error([&] { DumpReader r(p); }, p, 1, "not a LAMMPS dump file");
   expect_error([&] { DumpReader r(dir / "missing.dump"); }, dir / "missing.dump", 0,
                "file not found");
+  const auto b = write("bin.dump", std::string("\x05\0\0\0\0\0\0\0\x10", 9));
+  EXPECT_EQ(detect_atom_file_kind(b), AtomFileKind::data);
+  expect_error([&] { (void)read_data(b); }, b, 1, "binary file");
 }
 
 // ---- data files --------------------------------------------------------------
@@ -244,8 +254,8 @@ TEST_F(Files, DataFileByHand) {
   const DataFile d = read_data(p);
   EXPECT_EQ(d.title, "Test system # title");
   EXPECT_EQ(d.style, AtomStyle::molecular);
-  EXPECT_EQ(d.sections, (std::vector<std::string>{"Masses", "Pair Coeffs", "Atoms", "Velocities",
-                                                  "Bonds"}));
+  EXPECT_EQ(d.sections,
+            (std::vector<std::string>{"Masses", "Pair Coeffs", "Atoms", "Velocities", "Bonds"}));
   EXPECT_EQ(d.counts.at("bonds"), 2);
   const Atoms& a = d.atoms;
   EXPECT_EQ(a.ntypes, 2);
@@ -275,14 +285,16 @@ TEST_F(Files, DataMissingAtoms) {
   std::string t = kData;
   t.replace(t.find("4 atoms"), 7, "5 atoms");
   const auto p = write("m.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 30, "Atoms section has 4 lines, the header declares 5");
+  expect_error([&] { (void)read_data(p); }, p, 30,
+               "Atoms section has 4 lines, the header declares 5");
 }
 
 TEST_F(Files, DataDuplicateId) {
   std::string t = kData;
   t.replace(t.find("2 2 1 3.0"), 9, "3 2 1 3.0");
   const auto p = write("d.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 27, "duplicate atom id: got '3', expected each atom id once (id 3 is also on line 25)");
+  expect_error([&] { (void)read_data(p); }, p, 27,
+               "duplicate atom id: got '3', expected each atom id once (id 3 is also on line 25)");
 }
 
 TEST_F(Files, DataUnknownSection) {
@@ -321,7 +333,8 @@ TEST_F(Files, DataBondToMissingAtomAndBadType) {
   std::string t = kData;
   t.replace(t.find("2 1 3 4"), 7, "2 1 3 9");
   const auto p = write("b.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 40, "Bonds: atom id not in the Atoms section: got '9'");
+  expect_error([&] { (void)read_data(p); }, p, 40,
+               "Bonds: atom id not in the Atoms section: got '9'");
   std::string u = kData;
   u.replace(u.find("4 2 2 4.0"), 9, "4 2 3 4.0");
   const auto q = write("t.data", u);
@@ -332,7 +345,95 @@ TEST_F(Files, DataSectionLongerThanDeclared) {
   std::string t = kData;
   t.replace(t.find("2 1.008\n"), 8, "2 1.008\n3 5.0\n");
   const auto p = write("l.data", t);
-  expect_error([&] { (void)read_data(p); }, p, 17, "expected a section keyword after section Masses");
+  expect_error([&] { (void)read_data(p); }, p, 17,
+               "expected a section keyword after section Masses");
 }
 
+}  // namespace
+
+namespace {
+
+/// A multi-frame dump of random numbers, large enough (≈ 13 MB) for several gzip
+/// access points (one per 4 MiB of text).
+std::string random_dump(int frames, int natoms) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(-50.0, 50.0);
+  std::string t;
+  for (int f = 0; f < frames; ++f) {
+    t += fmt::format(
+        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS pp pp pp\n"
+        "-50 50\n-50 50\n-50 50\nITEM: ATOMS id type x y z\n",
+        100 * f, natoms);
+    for (int i = 0; i < natoms; ++i)
+      t += fmt::format("{} {} {:.15g} {:.15g} {:.15g}\n", natoms - i, 1 + i % 3, u(rng), u(rng),
+                       u(rng));
+  }
+  return t;
+}
+
+TEST_F(Files, GzipRandomAccessMatchesPlainText) {
+  const std::string text = random_dump(40, 5000);
+  const auto plain = write("r.dump", text);
+  // Two gzip members (the second appended with mode "ab"), so seeks also cross a member.
+  const std::string gz = dir / "r.dump.gz";
+  const std::size_t half = text.find("ITEM: TIMESTEP\n2000\n");
+  for (const auto& [mode, a, b] :
+       {std::tuple{"wb1", std::size_t{0}, half}, std::tuple{"ab1", half, text.size()}}) {
+    gzFile f = gzopen(gz.c_str(), mode);
+    ASSERT_EQ(gzwrite(f, text.data() + a, static_cast<unsigned>(b - a)), static_cast<int>(b - a));
+    gzclose(f);
+  }
+  DumpReader p(plain), z(gz);
+  EXPECT_TRUE(z.compressed());
+  ASSERT_EQ(z.nframes(), 40u);
+  // Reference: the plain-text reader (no seeking machinery involved).
+  std::mt19937 rng(7);
+  for (int k = 0; k < 14; ++k) {
+    const std::size_t n = rng() % 40;
+    SCOPED_TRACE("frame " + std::to_string(n));
+    const Atoms a = z.frame(n), b = p.frame(n);
+    EXPECT_EQ(a.timestep, 100 * static_cast<std::int64_t>(n));
+    EXPECT_EQ(a.id, b.id);
+    EXPECT_EQ(a.type, b.type);
+    EXPECT_EQ(a.x, b.x);  // the same text: bitwise identical
+  }
+}
+
+TEST_F(Files, TruncatedGzip) {
+  const std::string text = random_dump(3, 2000);
+  const std::string gz = dir / "cut.dump.gz";
+  gzFile f = gzopen(gz.c_str(), "wb");
+  gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(f);
+  std::filesystem::resize_file(gz, std::filesystem::file_size(gz) / 2);
+  expect_error([&] { (void)DumpReader(gz).nframes(); }, gz, 0, "corrupt or truncated gzip data");
+}
+
+}  // namespace
+
+namespace {
+TEST_F(Files, DataTypeLabelSectionsAreSkipped) {
+  std::string t = kData;
+  t.replace(t.find("Masses\n"), 7,
+            "Atom Type Labels\n\n1 C\n2 H\n\nBond Type Labels\n\n1 C-H\n\nMasses\n");
+  const auto p = write("labels.data", t);
+  const DataFile d = read_data(p);
+  EXPECT_EQ(d.sections.front(), "Atom Type Labels");
+  EXPECT_EQ(d.atoms.size(), 4u);
+  EXPECT_DOUBLE_EQ(d.atoms.type_mass[2], 1.008);
+}
+}  // namespace
+
+namespace {
+TEST_F(Files, ReadAtomsPicksTheKindAndFrame) {
+  const auto d = write("two.dump", std::string(kOrthoDump) + frame2());
+  EXPECT_EQ(read_atoms(d).timestep, 100);
+  EXPECT_EQ(read_atoms(d, 0).size(), 3u);
+  EXPECT_EQ(read_atoms(d, -2).x, read_atoms(d, 1).x);
+  expect_error([&] { (void)read_atoms(d, 2); }, d, 0, "frame index out of range");
+  expect_error([&] { (void)read_atoms(d, -3); }, d, 0, "frame index out of range");
+  const auto p = write("a.data", kData);
+  EXPECT_EQ(read_atoms(p).size(), 4u);
+  expect_error([&] { (void)read_atoms(p, 1); }, p, 0, "a data file holds one configuration");
+}
 }  // namespace

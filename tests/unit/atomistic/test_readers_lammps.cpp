@@ -99,13 +99,21 @@ fix 1 all nve
     lmp.run("dump A all custom/gz 10 " + d +
             "a.dump.gz vz ix zs id fy xs iz type ys vx iy fx vy fz\n"
             "dump_modify A format float %20.15g\n"
-            "dump B all custom 10 " + d + "b.dump zu id xu mass type yu\n"
+            "dump B all custom 10 " +
+            d +
+            "b.dump zu id xu mass type yu\n"
             "dump_modify B format float %20.15g\n"
-            "dump C all custom/gz 10 " + d + "c.dump.gz xsu id ysu zsu type\n"
+            "dump C all custom/gz 10 " +
+            d +
+            "c.dump.gz xsu id ysu zsu type\n"
             "dump_modify C format float %20.15g\n"
-            "dump D all custom 10 " + d + "d.dump y iy x id iz z ix type\n"
+            "dump D all custom 10 " +
+            d +
+            "d.dump y iy x id iz z ix type\n"
             "dump_modify D format float %20.15g sort id\n"
-            "dump E all atom 10 " + d + "e.dump\n"
+            "dump E all atom 10 " +
+            d +
+            "e.dump\n"
             // dump atom knows only "format line": id type xs ys zs ix iy iz
             "dump_modify E image yes format line \"%d %d %20.15g %20.15g %20.15g %d %d %d\"\n");
     refs_ = new std::vector<Reference>;
@@ -230,7 +238,8 @@ DataRef data_snapshot(const Lammps& lmp, bool molecular, bool charged) {
     if (lammps_extract_setting(lmp.handle(), "tagint") == 4) {
       std::vector<int> b(3 * nbonds);
       lammps_gather_bonds(lmp.handle(), b.data());
-      for (std::size_t k = 0; k < nbonds; ++k) r.bonds.emplace_back(b[3 * k], b[3 * k + 1], b[3 * k + 2]);
+      for (std::size_t k = 0; k < nbonds; ++k)
+        r.bonds.emplace_back(b[3 * k], b[3 * k + 1], b[3 * k + 2]);
     } else {
       std::vector<std::int64_t> b(3 * nbonds);
       lammps_gather_bonds(lmp.handle(), b.data());
@@ -367,4 +376,57 @@ INSTANTIATE_TEST_SUITE_P(Styles, MolecularDataVsLammps, ::testing::Values("full"
 
 }  // namespace
 
+#endif  // PDCG_WITH_LAMMPS
+
+#if PDCG_WITH_LAMMPS
+namespace {
+
+// Non-periodic, shrink-wrapped z (`boundary p p s`): the box changes from frame to
+// frame and z must come out non-periodic; xy tilt (allowed with periodic y).
+TEST(DumpVsLammpsBoundaries, ShrinkWrappedAndPeriodicFlags) {
+  ScratchDir dir("dump_pps");
+  Lammps lmp;
+  lmp.run(R"(
+units lj
+atom_style atomic
+atom_modify map array
+boundary p p s
+lattice fcc 0.8442
+region box prism 0 4 0 4 0 4 1.0 0.0 0.0 units lattice
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+velocity all create 3.0 5151 loop geom
+pair_style lj/cut 2.5
+pair_coeff * * 1.0 1.0
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check no
+timestep 0.005
+fix 1 all nve
+)");
+  lmp.run("dump A all custom 10 " + dir / "pps.dump" +
+          " id type x y z ix iy iz\ndump_modify A format float %20.15g");
+  std::vector<Reference> refs;
+  lmp.run("run 0");
+  refs.push_back(snapshot(lmp, 0));
+  for (int k = 1; k <= 2; ++k) {
+    lmp.run("run 10");
+    refs.push_back(snapshot(lmp, 10 * k));
+  }
+  lmp.run("undump A");
+  EXPECT_NE(refs.front().box.hi.z(), refs.back().box.hi.z());  // the box did shrink-wrap
+  DumpReader dump(dir / "pps.dump");
+  ASSERT_EQ(dump.nframes(), refs.size());
+  for (std::size_t n = 0; n < refs.size(); ++n) {
+    SCOPED_TRACE("frame " + std::to_string(n));
+    const Atoms a = dump.frame(n);
+    expect_box(a.box, refs[n].box);  // includes periodic = (p, p, non-periodic)
+    EXPECT_FALSE(a.box.periodic[2]);
+    EXPECT_EQ(a.image, refs[n].image);
+    // Same bound and reason as the periodic test above.
+    EXPECT_TRUE(all_close(a.x, refs[n].x_unwrapped, {1e-12 * box_scale(refs[n].box), 0.0}));
+  }
+}
+
+}  // namespace
 #endif  // PDCG_WITH_LAMMPS
