@@ -100,7 +100,15 @@ LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>())
       .value(spec.pair_style)
       .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
 #else
-  atom_line_of(spec);
+  const AtomLine line_style = atom_line_of(spec);
+  if (!spec.bond_style.empty() && line_style != AtomLine::bond && line_style != AtomLine::full)
+    throw InputError("bond_style needs an atom style with bonds")
+        .source(spec.source)
+        .line(spec.bond_style_line)
+        .key("atom_style")
+        .value(spec.atom_style)
+        .expected("atom_style bond, angle, molecular or full")
+        .fix("add 'atom_style bond' (or the style of the data file) to the potential commands");
   for (const auto& c : spec.pair_coeff) {
     const std::string file = coeff_file_argument(spec, c);
     if (!file.empty() && !find_potential_file(file))
@@ -218,6 +226,40 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
     }
   }
 
+  // Molecular bonds: LAMMPS aborts on a FENE bond longer than 2 R0 and on bond partners
+  // beyond the ghost cutoff; check the first and widen the second (comm_modify cutoff).
+  double longest_bond = 0.0;
+  if (molecular && !atoms.bonds.empty()) {
+    std::vector<std::pair<std::int64_t, std::size_t>> id_index(n);
+    for (std::size_t i = 0; i < n; ++i) id_index[i] = {atoms.id[i], i};
+    std::sort(id_index.begin(), id_index.end());
+    auto index_of = [&](std::int64_t id) {
+      auto it = std::lower_bound(id_index.begin(), id_index.end(), std::make_pair(id, std::size_t{0}));
+      if (it == id_index.end() || it->first != id)
+        throw InputError("bond names an atom id that is not in the configuration").key("Bonds").value(std::to_string(id));
+      return it->second;
+    };
+    for (const auto& b : atoms.bonds) {
+      const std::size_t i = index_of(b.atom1), j = index_of(b.atom2);
+      const Eigen::Vector3d d = box.minimum_image_exact(Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * i], atoms.x[3 * j + 1] - atoms.x[3 * i + 1],
+                                                                        atoms.x[3 * j + 2] - atoms.x[3 * i + 2]));
+      const double r = d.norm();
+      longest_bond = std::max(longest_bond, r);
+      if (spec.bond_style == "fene")
+        for (const auto& c : spec.bond_coeff) {
+          if (c.args.size() < 2 || c.i != std::to_string(b.type)) continue;
+          const double r0 = std::atof(c.args[1].c_str());
+          if (r * r >= 4.0 * r0 * r0)
+            throw InputError("FENE bond longer than 2 R0: LAMMPS would stop ('Bad FENE bond')")
+                .source(spec.source)
+                .line(c.line_number)
+                .key("bond_coeff")
+                .value(fmt::format("bond {}-{} of length {:.6g}", b.atom1, b.atom2, r))
+                .expected(fmt::format("bonds shorter than 2 R0 = {:.6g}", 2 * r0));
+        }
+    }
+  }
+
   // Temporary data file.
   std::string tmpl = (std::filesystem::temp_directory_path() / "pdcg_lammps_XXXXXX").string();
   const int fd = mkstemp(tmpl.data());
@@ -281,6 +323,7 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
   if (box.triclinic()) cmds.push_back("box tilt large");
   cmds.push_back("read_data " + tmpl);
   for (auto& c : potential_commands(spec)) cmds.push_back(std::move(c));
+  if (longest_bond > 0.0) cmds.push_back(fmt::format("comm_modify cutoff {}", g17(1.5 * longest_bond)));
   cmds.push_back("compute pdcg_pe all pe/atom");
   cmds.push_back("compute pdcg_pesum all reduce sum c_pdcg_pe");
   cmds.push_back("thermo_style custom step pe c_pdcg_pesum");

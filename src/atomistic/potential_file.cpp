@@ -302,6 +302,13 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
         throw err(c, cmd, "too few arguments").value(c.text).expected(expected).fix("see https://docs.lammps.org/" + cmd + ".html");
     };
     bool accepted = true;
+    static const std::set<std::string, std::less<>> kAccepted{"units", "atom_style", "mass", "pair_style", "pair_coeff",
+                                                              "pair_modify", "bond_style", "bond_coeff", "special_bonds"};
+    if (kAccepted.count(cmd) && c.text.find('$') != std::string::npos)
+      throw err(c, cmd, "LAMMPS variables are not expanded in potential commands")
+          .value(c.text)
+          .expected("literal values")
+          .fix("replace ${name} or $x by its value");
     if (cmd == "units") {
       need(2, "units STYLE");
       spec.units = parse_unit_style(w[1], spec.source + ":" + std::to_string(c.line));

@@ -145,4 +145,27 @@ TEST(LammpsEngine, AtomTypeBeyondPotentialIsAnInputError) {
   at.type[3] = 2;
   EXPECT_THROW(engine.evaluate(at), pdcg::InputError);
 }
+
+TEST(LammpsEngine, MolecularChecksBeforeLammpsCouldAbort) {
+  const std::string fene = "units lj\natom_style bond\npair_style lj/cut 1.12\npair_coeff * * 1 1\nbond_style fene\n"
+                           "bond_coeff 1 30 1.5 1 1\nspecial_bonds fene\n";
+  const LammpsEngine engine(read_potential_commands_from_string(fene, "fene.in", 1));
+  Atoms at = diamond(2, 4.0, 0.0, 1);
+  // no bonds at all: the bond type still exists for bond_coeff (LAMMPS would abort otherwise)
+  EXPECT_NO_THROW(engine.evaluate(at));
+  // a bond longer than 2 R0 = 3: "Bad FENE bond" in LAMMPS, an InputError here
+  at.bonds.push_back({1, 1, 2});  // (0,0,0)-(2,2,0): 2.83 < 3: fine
+  EXPECT_NO_THROW(engine.evaluate(at));
+  at.bonds.push_back({1, 1, 5});  // (0,0,0)-(1,1,1) = 1.73: fine
+  at.bonds.push_back({1, 1, 36});  // (0,0,0)-(4,2,2) = 4.9 > 3 (box 8: no shorter image)
+  try {
+    engine.evaluate(at);
+    FAIL() << "expected InputError";
+  } catch (const pdcg::InputError& e) {
+    EXPECT_EQ(e.line_number(), 6);
+  }
+  // bond_style with an atom style without bonds
+  EXPECT_THROW(LammpsEngine(read_potential_commands_from_string("units lj\nbond_style harmonic\nbond_coeff 1 1 1\n", "b.in", 1)),
+               pdcg::InputError);
+}
 #endif  // PDCG_WITH_LAMMPS

@@ -162,3 +162,21 @@ TEST(PotentialFile, TypeRanges) {
   EXPECT_THROW(parse_type_range("2*5", 4, lo, hi, "x", 1, "c"), pdcg::InputError);
   EXPECT_THROW(parse_type_range("a", 4, lo, hi, "x", 1, "c"), pdcg::InputError);
 }
+
+TEST(PotentialFile, VariablesAreRejectedWithAClearMessage) {
+  const auto e = input_error([] { read_potential_commands_from_string("pair_style lj/cut ${rc}\n", "v.in", 1); });
+  EXPECT_EQ(e.line_number(), 1);
+  EXPECT_EQ(e.key_name(), "pair_style");
+  // variables elsewhere in a deck do not matter
+  EXPECT_NO_THROW(read_potential_commands_from_string("variable t equal 300\nvelocity all create ${t} 1\npair_style zero 2\npair_coeff * *\n", "v.in", 1));
+}
+
+TEST(PotentialFile, CommentsQuotesAndContinuation) {
+  const auto s = read_potential_commands_from_string(
+      "pair_style lj/cut 2.5 # comment & not a continuation\n"
+      "pair_coeff 1 1 &\n  1.0 &\n  1.0 # trailing\n", "c.in");
+  ASSERT_EQ(s.pair_coeff.size(), 1u);
+  EXPECT_EQ(s.pair_coeff[0].args, (std::vector<std::string>{"1.0", "1.0"}));
+  EXPECT_EQ(s.pair_coeff[0].line_number, 2);
+  EXPECT_EQ(s.pair_style_args, (std::vector<std::string>{"2.5"}));
+}

@@ -55,6 +55,18 @@ void compare(const std::string& commands, const Atoms& atoms, double family_marg
       fm = std::max(fm, std::abs(pd.force[3 * i + static_cast<std::size_t>(k)]));
     }
   for (double v : s) EXPECT_LT(std::abs(v), 1e-11 * fm * static_cast<double>(atoms.size()));  // round-off of N terms
+  // Σ y × f = 0 for a free cluster (central bond forces; DESIGN §2.1 objectivity check)
+  if (!atoms.box.periodic[0] && !atoms.box.periodic[1] && !atoms.box.periodic[2]) {
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+    double scale = 0;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+      const Eigen::Vector3d y(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]);
+      const Eigen::Vector3d f(pd.force[3 * i], pd.force[3 * i + 1], pd.force[3 * i + 2]);
+      torque += y.cross(f);
+      scale += y.norm() * f.norm();
+    }
+    EXPECT_LT(torque.norm(), 1e-12 * scale);  // round-off of N cross products
+  }
 }
 
 const char* kLJ = R"(
