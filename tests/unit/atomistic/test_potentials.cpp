@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -283,4 +285,57 @@ TEST(PotentialsEAM, StronglyCompressedAndStretched) {
       "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n";
   compare(cmds, fcc(4, 4, 4, 3.615 * 0.72, 0.05, 1, 43));
   compare(cmds, fcc(3, 3, 3, 3.615 * 1.25, 0.05, 1, 44));
+}
+
+// ---------------------------------------------------------------------------------------
+// A user setfl file given by path (not in the LAMMPS directory), written here from analytic
+// functions, with ρ_max small enough that bulk atoms exceed it: exercises LAMMPS's linear
+// extension of F beyond the table.
+
+namespace {
+std::string write_setfl(double rhomax) {
+  const int nrho = 200, nr = 500;
+  const double drho = rhomax / (nrho - 1), dr = 0.01, cut = 4.9;
+  const auto path = std::filesystem::temp_directory_path() / "pdcg_test_AB.eam.alloy";
+  std::ofstream out(path);
+  out.precision(17);
+  out << "synthetic two-element setfl for pdcg tests\nF = -a sqrt(rho) + b rho^2, rho(r) = c "
+         "(rc-r)^2, "
+         "r phi = d r (rc-r)^3 (e - r)\n#\n2 A B\n"
+      << nrho << ' ' << drho << ' ' << nr << ' ' << dr << ' ' << cut << '\n';
+  auto block = [&](int n, auto f) {
+    for (int m = 0; m < n; ++m) out << f(m) << ((m % 5 == 4 || m == n - 1) ? '\n' : ' ');
+  };
+  const double a[2] = {1.0, 1.3}, b[2] = {0.002, 0.001}, c[2] = {0.25, 0.18};
+  for (int e = 0; e < 2; ++e) {
+    out << (e + 10) << ' ' << (20.0 + e) << " 3.6 fcc\n";
+    block(nrho, [&](int m) {
+      const double rho = m * drho;
+      return -a[e] * std::sqrt(rho) + b[e] * rho * rho;
+    });
+    block(nr, [&](int m) {
+      const double r = m * dr;
+      return r < cut ? c[e] * (cut - r) * (cut - r) : 0.0;
+    });
+  }
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j <= i; ++j)
+      block(nr, [&](int m) {
+        const double r = m * dr, d = 0.02 * (1 + i + j);
+        return r < cut ? d * r * std::pow(cut - r, 3) * (2.4 - r) : 0.0;
+      });
+  return path.string();
+}
+}  // namespace
+
+TEST(PotentialsEAM, UserSetflByPathBeyondRhoMax) {
+  // bulk ρ̄ ≈ 12·0.25·(4.9−2.55)² + … ≈ 20: ρ_max = 8 puts every atom on the linear extension
+  const std::string file = write_setfl(8.0);
+  const std::string cmds = "units metal\npair_style eam/alloy\npair_coeff * * " + file + " A B\n";
+  compare(cmds, fcc(3, 3, 3, 3.6, 0.03, 2, 45));
+  compare(cmds, cluster(fcc(4, 4, 4, 3.6, 0.03, 2, 46), 6.0));
+  // and a table that covers the densities
+  const std::string cmds2 =
+      "units metal\npair_style eam/alloy\npair_coeff * * " + write_setfl(60.0) + " B A\n";
+  compare(cmds2, fcc(3, 3, 3, 3.6, 0.03, 2, 47));
 }
