@@ -24,7 +24,10 @@ class TableReader {
  public:
   explicit TableReader(std::string path) : path_(std::move(path)), in_(path_) {
     if (!in_)
-      throw InputError("cannot open EAM potential file").source(path_).expected("a readable file").fix("check the path and permissions");
+      throw InputError("cannot open EAM potential file")
+          .source(path_)
+          .expected("a readable file")
+          .fix("check the path and permissions");
   }
   void skip_line() {
     if (!raw()) eof("a header line");
@@ -50,7 +53,9 @@ class TableReader {
   int to_int(const std::string& w, std::string_view what) const {
     return static_cast<int>(parse_int(w, {path_, lineno_, what}));
   }
-  double to_double(const std::string& w, std::string_view what) const { return parse_double(w, {path_, lineno_, what}); }
+  double to_double(const std::string& w, std::string_view what) const {
+    return parse_double(w, {path_, lineno_, what});
+  }
   const std::string& path() const { return path_; }
   long line() const { return lineno_; }
 
@@ -92,9 +97,16 @@ Grid read_grid(TableReader& rd) {
   g.dr = rd.to_double(v[3], "dr");
   g.cut = rd.to_double(v[4], "cutoff");
   if (g.nrho <= 0 || g.nr <= 0 || g.dr <= 0.0)
-    throw InputError("invalid EAM grid").source(rd.path()).line(rd.line()).key("Nrho drho Nr dr cutoff").expected("positive Nrho, Nr and dr");
+    throw InputError("invalid EAM grid")
+        .source(rd.path())
+        .line(rd.line())
+        .key("Nrho drho Nr dr cutoff")
+        .expected("positive Nrho, Nr and dr");
   if (g.nrho < 5 || g.nr < 5)
-    throw InputError("EAM grid too small for LAMMPS's splines").source(rd.path()).line(rd.line()).expected("Nrho, Nr >= 5");
+    throw InputError("EAM grid too small for LAMMPS's splines")
+        .source(rd.path())
+        .line(rd.line())
+        .expected("Nrho, Nr >= 5");
   return g;
 }
 
@@ -127,9 +139,9 @@ struct Setfl {
   std::vector<std::string> elements;
   std::vector<double> mass;
   Grid g;
-  std::vector<std::vector<double>> frho;                 // [element][1..nrho]
-  std::vector<std::vector<std::vector<double>>> rhor;    // [i][j or 0][1..nr]
-  std::vector<std::vector<std::vector<double>>> z2r;     // [i][j<=i][1..nr]
+  std::vector<std::vector<double>> frho;               // [element][1..nrho]
+  std::vector<std::vector<std::vector<double>>> rhor;  // [i][j or 0][1..nr]
+  std::vector<std::vector<std::vector<double>>> z2r;   // [i][j<=i][1..nr]
 };
 
 Setfl read_setfl(const std::string& path, bool fs) {
@@ -151,8 +163,12 @@ Setfl read_setfl(const std::string& path, bool fs) {
   const auto nrho = static_cast<std::size_t>(s.g.nrho), nr = static_cast<std::size_t>(s.g.nr);
   s.mass.resize(static_cast<std::size_t>(ne));
   s.frho.assign(static_cast<std::size_t>(ne), std::vector<double>(nrho + 1, 0.0));
-  s.rhor.assign(static_cast<std::size_t>(ne), std::vector<std::vector<double>>(fs ? static_cast<std::size_t>(ne) : 1, std::vector<double>(nr + 1, 0.0)));
-  s.z2r.assign(static_cast<std::size_t>(ne), std::vector<std::vector<double>>(static_cast<std::size_t>(ne), std::vector<double>(nr + 1, 0.0)));
+  s.rhor.assign(static_cast<std::size_t>(ne),
+                std::vector<std::vector<double>>(fs ? static_cast<std::size_t>(ne) : 1,
+                                                 std::vector<double>(nr + 1, 0.0)));
+  s.z2r.assign(static_cast<std::size_t>(ne),
+               std::vector<std::vector<double>>(static_cast<std::size_t>(ne),
+                                                std::vector<double>(nr + 1, 0.0)));
   for (std::size_t i = 0; i < static_cast<std::size_t>(ne); ++i) {
     auto w = rd.next_values(2, "Z mass");
     rd.to_int(w[0], "Z");
@@ -173,7 +189,8 @@ std::string resolve(const PotentialSpec& spec, const CoeffLine& c, const std::st
         .line(c.line_number)
         .key("pair_coeff")
         .value(name)
-        .expected("a readable EAM file (path, $LAMMPS_POTENTIALS, or the LAMMPS potentials directory)");
+        .expected(
+            "a readable EAM file (path, $LAMMPS_POTENTIALS, or the LAMMPS potentials directory)");
   return *p;
 }
 
@@ -193,20 +210,24 @@ void fill_type2z2r(EamTables& t, const std::vector<int>& map) {
     }
 }
 
-void array2spline(EamTables& t, const std::vector<std::vector<double>>& frho, const std::vector<std::vector<double>>& rhor,
+void array2spline(EamTables& t, const std::vector<std::vector<double>>& frho,
+                  const std::vector<std::vector<double>>& rhor,
                   const std::vector<std::vector<double>>& z2r) {
   t.rdr = 1.0 / t.dr;
   t.rdrho = 1.0 / t.drho;
   t.frho_spline.resize(frho.size());
   t.rhor_spline.resize(rhor.size());
   t.z2r_spline.resize(z2r.size());
-  for (std::size_t i = 0; i < frho.size(); ++i) eam_interpolate(t.nrho, t.drho, frho[i], t.frho_spline[i]);
-  for (std::size_t i = 0; i < rhor.size(); ++i) eam_interpolate(t.nr, t.dr, rhor[i], t.rhor_spline[i]);
+  for (std::size_t i = 0; i < frho.size(); ++i)
+    eam_interpolate(t.nrho, t.drho, frho[i], t.frho_spline[i]);
+  for (std::size_t i = 0; i < rhor.size(); ++i)
+    eam_interpolate(t.nr, t.dr, rhor[i], t.rhor_spline[i]);
   for (std::size_t i = 0; i < z2r.size(); ++i) eam_interpolate(t.nr, t.dr, z2r[i], t.z2r_spline[i]);
 }
 
 InputError unmapped(const PotentialSpec& spec, int type) {
-  return InputError("atom type not mapped to an EAM element (NULL needs pair_style hybrid, not native)")
+  return InputError(
+             "atom type not mapped to an EAM element (NULL needs pair_style hybrid, not native)")
       .source(spec.source)
       .key("pair_coeff")
       .value(std::to_string(type))
@@ -216,7 +237,8 @@ InputError unmapped(const PotentialSpec& spec, int type) {
 
 }  // namespace
 
-void eam_interpolate(int n, double delta, const std::vector<double>& f, std::vector<double>& spline) {
+void eam_interpolate(int n, double delta, const std::vector<double>& f,
+                     std::vector<double>& spline) {
   spline.assign(static_cast<std::size_t>(7 * (n + 1)), 0.0);
   auto s = [&](int m, int k) -> double& { return spline[static_cast<std::size_t>(7 * m + k)]; };
   for (int m = 1; m <= n; m++) s(m, 6) = f[static_cast<std::size_t>(m)];
@@ -226,7 +248,8 @@ void eam_interpolate(int n, double delta, const std::vector<double>& f, std::vec
   s(n - 1, 5) = 0.5 * (s(n, 6) - s(n - 2, 6));
   s(n, 5) = s(n, 6) - s(n - 1, 6);
 
-  for (int m = 3; m <= n - 2; m++) s(m, 5) = ((s(m - 2, 6) - s(m + 2, 6)) + 8.0 * (s(m + 1, 6) - s(m - 1, 6))) / 12.0;
+  for (int m = 3; m <= n - 2; m++)
+    s(m, 5) = ((s(m - 2, 6) - s(m + 2, 6)) + 8.0 * (s(m + 1, 6) - s(m - 1, 6))) / 12.0;
 
   for (int m = 1; m <= n - 1; m++) {
     s(m, 4) = 3.0 * (s(m + 1, 6) - s(m, 6)) - 2.0 * s(m, 5) - s(m + 1, 5);
@@ -256,13 +279,19 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
     std::vector<Funcfl> files;
     for (const auto& c : spec.pair_coeff) {
       if (c.args.size() != 1)
-        throw InputError("wrong number of arguments").source(spec.source).line(c.line_number).key("pair_coeff").value(c.line).expected("pair_coeff I J FILE (pair_style eam)");
+        throw InputError("wrong number of arguments")
+            .source(spec.source)
+            .line(c.line_number)
+            .key("pair_coeff")
+            .value(c.line)
+            .expected("pair_coeff I J FILE (pair_style eam)");
       int ilo, ihi, jlo, jhi;
       parse_type_range(c.i, t.ntypes, ilo, ihi, spec.source, c.line_number, "pair_coeff");
       parse_type_range(c.j, t.ntypes, jlo, jhi, spec.source, c.line_number, "pair_coeff");
       std::size_t ifile = 0;
       while (ifile < files.size() && files[ifile].file != c.args[0]) ++ifile;
-      if (ifile == files.size()) files.push_back(read_funcfl(c.args[0], resolve(spec, c, c.args[0])));
+      if (ifile == files.size())
+        files.push_back(read_funcfl(c.args[0], resolve(spec, c, c.args[0])));
       int count = 0;
       for (int i = ilo; i <= ihi; ++i)
         for (int j = std::max(jlo, i); j <= jhi; ++j)
@@ -273,7 +302,11 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
           }
       if (count == 0)
         throw InputError("pair_coeff maps no type to the funcfl file (pair_style eam needs I = J)")
-            .source(spec.source).line(c.line_number).key("pair_coeff").value(c.line).expected("pair_coeff I I FILE");
+            .source(spec.source)
+            .line(c.line_number)
+            .key("pair_coeff")
+            .value(c.line)
+            .expected("pair_coeff I I FILE");
     }
     for (int i = 1; i <= t.ntypes; ++i)
       if (map[static_cast<std::size_t>(i)] < 0) throw unmapped(spec, i);
@@ -312,24 +345,31 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
       const auto ku = static_cast<std::size_t>(k);
       return cof1 * tab[ku - 1] + cof2 * tab[ku] + cof3 * tab[ku + 1] + cof4 * tab[ku + 2];
     };
-    frho.assign(static_cast<std::size_t>(nfuncfl + 1), std::vector<double>(static_cast<std::size_t>(t.nrho + 1), 0.0));
+    frho.assign(static_cast<std::size_t>(nfuncfl + 1),
+                std::vector<double>(static_cast<std::size_t>(t.nrho + 1), 0.0));
     for (int i = 0; i < nfuncfl; i++) {
       const Funcfl& file = files[static_cast<std::size_t>(i)];
       for (int m = 1; m <= t.nrho; m++)
-        frho[static_cast<std::size_t>(i)][static_cast<std::size_t>(m)] = lagrange(file.frho, file.g.nrho, file.g.drho, (m - 1) * t.drho);
+        frho[static_cast<std::size_t>(i)][static_cast<std::size_t>(m)] =
+            lagrange(file.frho, file.g.nrho, file.g.drho, (m - 1) * t.drho);
     }
     t.type2frho.assign(static_cast<std::size_t>(n1), nfuncfl);
-    for (int i = 1; i <= t.ntypes; i++) t.type2frho[static_cast<std::size_t>(i)] = map[static_cast<std::size_t>(i)];
-    rhor.assign(static_cast<std::size_t>(nfuncfl), std::vector<double>(static_cast<std::size_t>(t.nr + 1), 0.0));
+    for (int i = 1; i <= t.ntypes; i++)
+      t.type2frho[static_cast<std::size_t>(i)] = map[static_cast<std::size_t>(i)];
+    rhor.assign(static_cast<std::size_t>(nfuncfl),
+                std::vector<double>(static_cast<std::size_t>(t.nr + 1), 0.0));
     for (int i = 0; i < nfuncfl; i++) {
       const Funcfl& file = files[static_cast<std::size_t>(i)];
       for (int m = 1; m <= t.nr; m++)
-        rhor[static_cast<std::size_t>(i)][static_cast<std::size_t>(m)] = lagrange(file.rhor, file.g.nr, file.g.dr, (m - 1) * t.dr);
+        rhor[static_cast<std::size_t>(i)][static_cast<std::size_t>(m)] =
+            lagrange(file.rhor, file.g.nr, file.g.dr, (m - 1) * t.dr);
     }
     t.type2rhor.assign(static_cast<std::size_t>(n1 * n1), 0);
     for (int i = 1; i <= t.ntypes; i++)
-      for (int j = 1; j <= t.ntypes; j++) t.type2rhor[static_cast<std::size_t>(i * n1 + j)] = map[static_cast<std::size_t>(i)];
-    z2r.assign(static_cast<std::size_t>(nfuncfl * (nfuncfl + 1) / 2), std::vector<double>(static_cast<std::size_t>(t.nr + 1), 0.0));
+      for (int j = 1; j <= t.ntypes; j++)
+        t.type2rhor[static_cast<std::size_t>(i * n1 + j)] = map[static_cast<std::size_t>(i)];
+    z2r.assign(static_cast<std::size_t>(nfuncfl * (nfuncfl + 1) / 2),
+               std::vector<double>(static_cast<std::size_t>(t.nr + 1), 0.0));
     std::size_t n = 0;
     for (int i = 0; i < nfuncfl; i++) {
       const Funcfl& fi = files[static_cast<std::size_t>(i)];
@@ -349,7 +389,11 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
     const bool fs = spec.pair_style == "eam/fs";
     // PairEAMAlloy/PairEAMFS::coeff: a single pair_coeff * * FILE el1 … elN
     if (spec.pair_coeff.empty())
-      throw InputError("no pair_coeff for " + spec.pair_style).source(spec.source).line(spec.pair_style_line).key("pair_coeff").expected("pair_coeff * * FILE ELEMENT…");
+      throw InputError("no pair_coeff for " + spec.pair_style)
+          .source(spec.source)
+          .line(spec.pair_style_line)
+          .key("pair_coeff")
+          .expected("pair_coeff * * FILE ELEMENT…");
     const CoeffLine& c = spec.pair_coeff.back();
     if (c.i != "*" || c.j != "*" || static_cast<int>(c.args.size()) != 1 + t.ntypes)
       throw InputError("incorrect args for pair coefficients")
@@ -357,7 +401,8 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
           .line(c.line_number)
           .key("pair_coeff")
           .value(c.line)
-          .expected("pair_coeff * * FILE followed by one element name (or NULL) per atom type (" + std::to_string(t.ntypes) + ")");
+          .expected("pair_coeff * * FILE followed by one element name (or NULL) per atom type (" +
+                    std::to_string(t.ntypes) + ")");
     const Setfl s = read_setfl(resolve(spec, c, c.args[0]), fs);
     const int ne = static_cast<int>(s.elements.size());
     for (int i = 1; i <= t.ntypes; ++i) {
@@ -385,24 +430,31 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
     t.drho = s.g.drho;
     t.dr = s.g.dr;
     t.rhomax = (t.nrho - 1) * t.drho;
-    frho.assign(static_cast<std::size_t>(ne + 1), std::vector<double>(static_cast<std::size_t>(t.nrho + 1), 0.0));
-    for (int i = 0; i < ne; i++) frho[static_cast<std::size_t>(i)] = s.frho[static_cast<std::size_t>(i)];
+    frho.assign(static_cast<std::size_t>(ne + 1),
+                std::vector<double>(static_cast<std::size_t>(t.nrho + 1), 0.0));
+    for (int i = 0; i < ne; i++)
+      frho[static_cast<std::size_t>(i)] = s.frho[static_cast<std::size_t>(i)];
     t.type2frho.assign(static_cast<std::size_t>(n1), ne);
-    for (int i = 1; i <= t.ntypes; i++) t.type2frho[static_cast<std::size_t>(i)] = map[static_cast<std::size_t>(i)];
+    for (int i = 1; i <= t.ntypes; i++)
+      t.type2frho[static_cast<std::size_t>(i)] = map[static_cast<std::size_t>(i)];
     t.type2rhor.assign(static_cast<std::size_t>(n1 * n1), 0);
     if (fs) {
       for (int i = 0; i < ne; i++)
-        for (int j = 0; j < ne; j++) rhor.push_back(s.rhor[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
+        for (int j = 0; j < ne; j++)
+          rhor.push_back(s.rhor[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
       for (int i = 1; i <= t.ntypes; i++)
         for (int j = 1; j <= t.ntypes; j++)
-          t.type2rhor[static_cast<std::size_t>(i * n1 + j)] = map[static_cast<std::size_t>(i)] * ne + map[static_cast<std::size_t>(j)];
+          t.type2rhor[static_cast<std::size_t>(i * n1 + j)] =
+              map[static_cast<std::size_t>(i)] * ne + map[static_cast<std::size_t>(j)];
     } else {
       for (int i = 0; i < ne; i++) rhor.push_back(s.rhor[static_cast<std::size_t>(i)][0]);
       for (int i = 1; i <= t.ntypes; i++)
-        for (int j = 1; j <= t.ntypes; j++) t.type2rhor[static_cast<std::size_t>(i * n1 + j)] = map[static_cast<std::size_t>(i)];
+        for (int j = 1; j <= t.ntypes; j++)
+          t.type2rhor[static_cast<std::size_t>(i * n1 + j)] = map[static_cast<std::size_t>(i)];
     }
     for (int i = 0; i < ne; i++)
-      for (int j = 0; j <= i; j++) z2r.push_back(s.z2r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
+      for (int j = 0; j <= i; j++)
+        z2r.push_back(s.z2r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
     fill_type2z2r(t, map);
   }
   t.cutforcesq = t.cutmax * t.cutmax;

@@ -1,6 +1,7 @@
 #include "pdcg/atomistic/lammps_engine.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -10,7 +11,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
@@ -34,12 +34,6 @@ struct LammpsEngine::Impl {
 
 namespace {
 
-std::string join(const std::vector<std::string>& w) {
-  std::string s;
-  for (const auto& x : w) s += (s.empty() ? "" : " ") + x;
-  return s;
-}
-
 std::string g17(double v) { return fmt::format("{:.17g}", v); }
 
 enum class AtomLine { atomic, charge, bond, full };
@@ -62,9 +56,19 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
   std::vector<std::string> cmds;
   for (int t = 1; t < static_cast<int>(spec.type_mass.size()); ++t)
     if (!std::isnan(spec.type_mass[static_cast<std::size_t>(t)]))
-      cmds.push_back(fmt::format("mass {} {}", t, g17(spec.type_mass[static_cast<std::size_t>(t)])));
+      cmds.push_back(
+          fmt::format("mass {} {}", t, g17(spec.type_mass[static_cast<std::size_t>(t)])));
+  // words appended with std::string::append (GCC 12 reports a false -Wrestrict for " " + s)
+  auto command = [](std::string_view head,
+                    std::initializer_list<const std::vector<std::string>*> parts) {
+    std::string out(head);
+    for (const auto* words : parts)
+      for (const auto& w : *words) out.append(1, ' ').append(w);
+    return out;
+  };
   if (!spec.pair_style.empty()) {
-    cmds.push_back(join({"pair_style", spec.pair_style}) + (spec.pair_style_args.empty() ? "" : " " + join(spec.pair_style_args)));
+    const std::vector<std::string> style{spec.pair_style};
+    cmds.push_back(command("pair_style", {&style, &spec.pair_style_args}));
     for (const auto& c : spec.pair_coeff) {
       std::vector<std::string> args = c.args;
       const std::string file = coeff_file_argument(spec, c);
@@ -74,17 +78,23 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
             a = find_potential_file(file).value_or(file);
             break;
           }
-      cmds.push_back("pair_coeff " + c.i + " " + c.j + (args.empty() ? "" : " " + join(args)));
+      const std::vector<std::string> types{c.i, c.j};
+      cmds.push_back(command("pair_coeff", {&types, &args}));
     }
-    if (!spec.pair_modify.empty()) cmds.push_back("pair_modify " + join(spec.pair_modify));
+    if (!spec.pair_modify.empty()) cmds.push_back(command("pair_modify", {&spec.pair_modify}));
   }
   if (!spec.bond_style.empty()) {
-    cmds.push_back("bond_style " + spec.bond_style + (spec.bond_style_args.empty() ? "" : " " + join(spec.bond_style_args)));
-    for (const auto& c : spec.bond_coeff) cmds.push_back("bond_coeff " + c.i + (c.args.empty() ? "" : " " + join(c.args)));
+    const std::vector<std::string> style{spec.bond_style};
+    cmds.push_back(command("bond_style", {&style, &spec.bond_style_args}));
+    for (const auto& c : spec.bond_coeff) {
+      const std::vector<std::string> type{c.i};
+      cmds.push_back(command("bond_coeff", {&type, &c.args}));
+    }
   }
   if (!spec.bond_style.empty())
-    cmds.push_back(fmt::format("special_bonds lj {} {} {} coul {} {} {}", g17(spec.special_lj[0]), g17(spec.special_lj[1]),
-                               g17(spec.special_lj[2]), g17(spec.special_coul[0]), g17(spec.special_coul[1]),
+    cmds.push_back(fmt::format("special_bonds lj {} {} {} coul {} {} {}", g17(spec.special_lj[0]),
+                               g17(spec.special_lj[1]), g17(spec.special_lj[2]),
+                               g17(spec.special_coul[0]), g17(spec.special_coul[1]),
                                g17(spec.special_coul[2])));
   return cmds;
 }
@@ -100,7 +110,15 @@ LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>())
       .value(spec.pair_style)
       .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
 #else
-  atom_line_of(spec);
+  const AtomLine line_style = atom_line_of(spec);
+  if (!spec.bond_style.empty() && line_style != AtomLine::bond && line_style != AtomLine::full)
+    throw InputError("bond_style needs an atom style with bonds")
+        .source(spec.source)
+        .line(spec.bond_style_line)
+        .key("atom_style")
+        .value(spec.atom_style)
+        .expected("atom_style bond, angle, molecular or full")
+        .fix("add 'atom_style bond' (or the style of the data file) to the potential commands");
   for (const auto& c : spec.pair_coeff) {
     const std::string file = coeff_file_argument(spec, c);
     if (!file.empty() && !find_potential_file(file))
@@ -109,8 +127,10 @@ LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>())
           .line(c.line_number)
           .key("pair_coeff")
           .value(file)
-          .expected(std::string("a readable file: the path as given, or its name in $LAMMPS_POTENTIALS or ") +
-                    PDCG_LAMMPS_POTENTIALS_DIR);
+          .expected(
+              std::string(
+                  "a readable file: the path as given, or its name in $LAMMPS_POTENTIALS or ") +
+              PDCG_LAMMPS_POTENTIALS_DIR);
   }
   // Native styles: validate coefficients with pdcg's own checks first (LAMMPS would abort).
   const bool native_pair = spec.pair_style.empty() || native_pair_style(spec.pair_style);
@@ -134,7 +154,8 @@ LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>())
     if (missing("pair", spec.pair_style)) bad_pair = spec.pair_style;
     if (spec.pair_style.rfind("hybrid", 0) == 0)
       for (const auto& a : spec.pair_style_args)
-        if (!a.empty() && !std::isdigit(static_cast<unsigned char>(a[0])) && a != "scale" && missing("pair", a)) {
+        if (!a.empty() && !std::isdigit(static_cast<unsigned char>(a[0])) && a != "scale" &&
+            missing("pair", a)) {
           // hybrid arguments are sub-style names and their numeric settings
           bad_pair = a;
         }
@@ -169,7 +190,8 @@ const std::vector<std::string>& LammpsEngine::commands() const { return impl_->c
 LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
 #if !PDCG_WITH_LAMMPS
   (void)atoms;
-  throw InputError("embedded LAMMPS is not available in this build").fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
+  throw InputError("embedded LAMMPS is not available in this build")
+      .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
 #else
   const PotentialSpec& spec = impl_->spec;
   const std::size_t n = atoms.size();
@@ -190,18 +212,22 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
   if (molecular) {
     for (const auto& b : atoms.bonds) nbondtypes = std::max(nbondtypes, b.type);
     for (const auto& c : spec.bond_coeff)
-      if (!c.i.empty() && std::isdigit(static_cast<unsigned char>(c.i[0]))) nbondtypes = std::max(nbondtypes, std::atoi(c.i.c_str()));
+      if (!c.i.empty() && std::isdigit(static_cast<unsigned char>(c.i[0])))
+        nbondtypes = std::max(nbondtypes, std::atoi(c.i.c_str()));
   }
 
   // Box: non-periodic directions widened to hold every atom (orthogonal boxes).
   Box box = atoms.box;
   const bool nonperiodic = !box.periodic[0] || !box.periodic[1] || !box.periodic[2];
   if (nonperiodic && n > 0) {
-    Eigen::Vector3d lo = atoms.positions().rowwise().minCoeff(), hi = atoms.positions().rowwise().maxCoeff();
-    const double margin = std::max(0.05 * (hi - lo).maxCoeff(), 1e-3 * std::max(1.0, box.lengths().maxCoeff()));
+    Eigen::Vector3d lo = atoms.positions().rowwise().minCoeff(),
+                    hi = atoms.positions().rowwise().maxCoeff();
+    const double margin =
+        std::max(0.05 * (hi - lo).maxCoeff(), 1e-3 * std::max(1.0, box.lengths().maxCoeff()));
     if (box.triclinic()) {
       for (std::size_t i = 0; i < n; ++i) {
-        const Eigen::Vector3d s = box.to_fractional({atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]});
+        const Eigen::Vector3d s =
+            box.to_fractional({atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]});
         for (int k = 0; k < 3; ++k)
           if (!box.periodic[static_cast<std::size_t>(k)] && (s[k] < 0.0 || s[k] >= 1.0))
             throw InputError("atom outside a non-periodic direction of a triclinic box")
@@ -218,10 +244,49 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
     }
   }
 
+  // Molecular bonds: LAMMPS aborts on a FENE bond longer than 2 R0 and on bond partners
+  // beyond the ghost cutoff; check the first and widen the second (comm_modify cutoff).
+  double longest_bond = 0.0;
+  if (molecular && !atoms.bonds.empty()) {
+    std::vector<std::pair<std::int64_t, std::size_t> > id_index(n);
+    for (std::size_t i = 0; i < n; ++i) id_index[i] = {atoms.id[i], i};
+    std::sort(id_index.begin(), id_index.end());
+    auto index_of = [&](std::int64_t id) {
+      auto it =
+          std::lower_bound(id_index.begin(), id_index.end(), std::make_pair(id, std::size_t{0}));
+      if (it == id_index.end() || it->first != id)
+        throw InputError("bond names an atom id that is not in the configuration")
+            .key("Bonds")
+            .value(std::to_string(id));
+      return it->second;
+    };
+    for (const auto& b : atoms.bonds) {
+      const std::size_t i = index_of(b.atom1), j = index_of(b.atom2);
+      const Eigen::Vector3d d = box.minimum_image_exact(
+          Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * i], atoms.x[3 * j + 1] - atoms.x[3 * i + 1],
+                          atoms.x[3 * j + 2] - atoms.x[3 * i + 2]));
+      const double r = d.norm();
+      longest_bond = std::max(longest_bond, r);
+      if (spec.bond_style == "fene")
+        for (const auto& c : spec.bond_coeff) {
+          if (c.args.size() < 2 || c.i != std::to_string(b.type)) continue;
+          const double r0 = std::atof(c.args[1].c_str());
+          if (r * r >= 4.0 * r0 * r0)
+            throw InputError("FENE bond longer than 2 R0: LAMMPS would stop ('Bad FENE bond')")
+                .source(spec.source)
+                .line(c.line_number)
+                .key("bond_coeff")
+                .value(fmt::format("bond {}-{} of length {:.6g}", b.atom1, b.atom2, r))
+                .expected(fmt::format("bonds shorter than 2 R0 = {:.6g}", 2 * r0));
+        }
+    }
+  }
+
   // Temporary data file.
   std::string tmpl = (std::filesystem::temp_directory_path() / "pdcg_lammps_XXXXXX").string();
   const int fd = mkstemp(tmpl.data());
-  if (fd < 0) throw InputError("cannot create a temporary file for LAMMPS").value(tmpl).fix("check TMPDIR");
+  if (fd < 0)
+    throw InputError("cannot create a temporary file for LAMMPS").value(tmpl).fix("check TMPDIR");
   close(fd);
   struct Remove {
     std::string p;
@@ -229,17 +294,23 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
   } remove_tmp{tmpl};
   {
     std::ofstream out(tmpl);
-    out << "pdcg configuration for embedded LAMMPS\n\n" << n << " atoms\n" << ntypes << " atom types\n";
-    if (molecular && nbondtypes > 0) out << atoms.bonds.size() << " bonds\n" << nbondtypes << " bond types\n";
+    out << "pdcg configuration for embedded LAMMPS\n\n"
+        << n << " atoms\n"
+        << ntypes << " atom types\n";
+    if (molecular && nbondtypes > 0)
+      out << atoms.bonds.size() << " bonds\n" << nbondtypes << " bond types\n";
     out << g17(box.lo[0]) << ' ' << g17(box.hi[0]) << " xlo xhi\n"
         << g17(box.lo[1]) << ' ' << g17(box.hi[1]) << " ylo yhi\n"
         << g17(box.lo[2]) << ' ' << g17(box.hi[2]) << " zlo zhi\n";
-    if (box.triclinic()) out << g17(box.xy) << ' ' << g17(box.xz) << ' ' << g17(box.yz) << " xy xz yz\n";
+    if (box.triclinic())
+      out << g17(box.xy) << ' ' << g17(box.xz) << ' ' << g17(box.yz) << " xy xz yz\n";
     out << "\nMasses\n\n";
     for (int t = 1; t <= ntypes; ++t) {
       double m = std::nan("");
-      if (static_cast<std::size_t>(t) < atoms.type_mass.size()) m = atoms.type_mass[static_cast<std::size_t>(t)];
-      if (std::isnan(m) && static_cast<std::size_t>(t) < spec.type_mass.size()) m = spec.type_mass[static_cast<std::size_t>(t)];
+      if (static_cast<std::size_t>(t) < atoms.type_mass.size())
+        m = atoms.type_mass[static_cast<std::size_t>(t)];
+      if (std::isnan(m) && static_cast<std::size_t>(t) < spec.type_mass.size())
+        m = spec.type_mass[static_cast<std::size_t>(t)];
       if (std::isnan(m)) m = 1.0;  // masses do not enter energies or forces
       out << t << ' ' << g17(m) << '\n';
     }
@@ -252,22 +323,28 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
       if (style == AtomLine::bond || style == AtomLine::full) out << mol << ' ';
       out << t << ' ';
       if (style == AtomLine::charge || style == AtomLine::full) out << g17(q) << ' ';
-      out << g17(atoms.x[3 * i]) << ' ' << g17(atoms.x[3 * i + 1]) << ' ' << g17(atoms.x[3 * i + 2]) << '\n';
+      out << g17(atoms.x[3 * i]) << ' ' << g17(atoms.x[3 * i + 1]) << ' ' << g17(atoms.x[3 * i + 2])
+          << '\n';
     }
     if (molecular && nbondtypes > 0 && !atoms.bonds.empty()) {
       // atom ids → 1-based index in the file
-      std::vector<std::pair<std::int64_t, std::int64_t>> id_index(n);
-      for (std::size_t i = 0; i < n; ++i) id_index[i] = {atoms.id[i], static_cast<std::int64_t>(i + 1)};
+      std::vector<std::pair<std::int64_t, std::int64_t> > id_index(n);
+      for (std::size_t i = 0; i < n; ++i)
+        id_index[i] = {atoms.id[i], static_cast<std::int64_t>(i + 1)};
       std::sort(id_index.begin(), id_index.end());
       auto index_of = [&](std::int64_t id) {
-        auto it = std::lower_bound(id_index.begin(), id_index.end(), std::make_pair(id, std::int64_t{0}));
+        auto it =
+            std::lower_bound(id_index.begin(), id_index.end(), std::make_pair(id, std::int64_t{0}));
         if (it == id_index.end() || it->first != id)
-          throw InputError("bond names an atom id that is not in the configuration").key("Bonds").value(std::to_string(id));
+          throw InputError("bond names an atom id that is not in the configuration")
+              .key("Bonds")
+              .value(std::to_string(id));
         return it->second;
       };
       out << "\nBonds\n\n";
       std::size_t k = 0;
-      for (const auto& b : atoms.bonds) out << ++k << ' ' << b.type << ' ' << index_of(b.atom1) << ' ' << index_of(b.atom2) << '\n';
+      for (const auto& b : atoms.bonds)
+        out << ++k << ' ' << b.type << ' ' << index_of(b.atom1) << ' ' << index_of(b.atom2) << '\n';
     }
     if (!out) throw InputError("cannot write the temporary LAMMPS data file").value(tmpl);
   }
@@ -277,10 +354,13 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
   cmds.push_back("units " + std::string(to_string(spec.units)));
   cmds.push_back("atom_style " + spec.atom_style);
   cmds.push_back("atom_modify map array sort 0 0.0");
-  cmds.push_back(fmt::format("boundary {} {} {}", box.periodic[0] ? 'p' : 'f', box.periodic[1] ? 'p' : 'f', box.periodic[2] ? 'p' : 'f'));
+  cmds.push_back(fmt::format("boundary {} {} {}", box.periodic[0] ? 'p' : 'f',
+                             box.periodic[1] ? 'p' : 'f', box.periodic[2] ? 'p' : 'f'));
   if (box.triclinic()) cmds.push_back("box tilt large");
   cmds.push_back("read_data " + tmpl);
   for (auto& c : potential_commands(spec)) cmds.push_back(std::move(c));
+  if (longest_bond > 0.0)
+    cmds.push_back(fmt::format("comm_modify cutoff {}", g17(1.5 * longest_bond)));
   cmds.push_back("compute pdcg_pe all pe/atom");
   cmds.push_back("compute pdcg_pesum all reduce sum c_pdcg_pe");
   cmds.push_back("thermo_style custom step pe c_pdcg_pesum");
@@ -304,16 +384,20 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
 
   const int nlocal = lammps_extract_setting(lmp, "nlocal");
   if (nlocal != static_cast<int>(n))
-    throw InputError("LAMMPS lost atoms").value(std::to_string(nlocal) + " of " + std::to_string(n)).fix("check the box and periodicity");
+    throw InputError("LAMMPS lost atoms")
+        .value(std::to_string(nlocal) + " of " + std::to_string(n))
+        .fix("check the box and periodicity");
   const int tagsize = lammps_extract_setting(lmp, "tagint");
   void* tag = lammps_extract_atom(lmp, "id");
   auto** f = static_cast<double**>(lammps_extract_atom(lmp, "f"));
-  auto* pe = static_cast<double*>(lammps_extract_compute(lmp, "pdcg_pe", LMP_STYLE_ATOM, LMP_TYPE_VECTOR));
+  auto* pe =
+      static_cast<double*>(lammps_extract_compute(lmp, "pdcg_pe", LMP_STYLE_ATOM, LMP_TYPE_VECTOR));
   LammpsResult r;
   r.energy.assign(n, 0.0);
   r.force.assign(3 * n, 0.0);
   for (int i = 0; i < nlocal; ++i) {
-    const std::int64_t id = tagsize == 8 ? static_cast<std::int64_t*>(tag)[i] : static_cast<std::int32_t*>(tag)[i];
+    const std::int64_t id =
+        tagsize == 8 ? static_cast<std::int64_t*>(tag)[i] : static_cast<std::int32_t*>(tag)[i];
     const auto k = static_cast<std::size_t>(id - 1);
     r.energy[k] = pe[i];
     for (int d = 0; d < 3; ++d) r.force[3 * k + static_cast<std::size_t>(d)] = f[i][d];

@@ -106,7 +106,8 @@ int data_file_ntypes(const std::string& path) {
   for (int n = 0; n < 200 && std::getline(in, line); ++n) {
     if (n == 0) continue;  // title line
     auto w = words_of(line.substr(0, line.find('#')));
-    if (w.size() >= 3 && w[1] == "atom" && w[2] == "types" && is_integer(w[0])) return std::stoi(w[0]);
+    if (w.size() >= 3 && w[1] == "atom" && w[2] == "types" && is_integer(w[0]))
+      return std::stoi(w[0]);
     if (w.size() == 1 && !is_number(w[0])) break;  // first section header
     ++count;
   }
@@ -130,16 +131,29 @@ int max_type_in(std::string_view token) {
   return m;
 }
 
-const std::set<std::string, std::less<>> kNativePair{"lj/cut", "morse", "zero", "eam", "eam/alloy", "eam/fs"};
+const std::set<std::string, std::less<>> kNativePair{"lj/cut", "morse",     "zero",
+                                                     "eam",    "eam/alloy", "eam/fs"};
 const std::set<std::string, std::less<>> kNativeBond{"harmonic", "fene", "zero"};
 
 /// Pair styles whose pair_coeff starts with `* * FILE` or `I J FILE` (tabulated/many-body).
 bool style_takes_file(std::string_view style) {
-  static const std::set<std::string, std::less<>> no_file{"lj/cut", "morse", "zero", "lj/cut/coul/cut",
-                                                          "lj/cut/coul/long", "lj/expand", "soft",
-                                                          "yukawa", "born", "buck", "coul/cut",
-                                                          "lj96/cut", "mie/cut", "gauss", "beck",
-                                                          "lj/smooth/linear", "lj/gromacs"};
+  static const std::set<std::string, std::less<>> no_file{"lj/cut",
+                                                          "morse",
+                                                          "zero",
+                                                          "lj/cut/coul/cut",
+                                                          "lj/cut/coul/long",
+                                                          "lj/expand",
+                                                          "soft",
+                                                          "yukawa",
+                                                          "born",
+                                                          "buck",
+                                                          "coul/cut",
+                                                          "lj96/cut",
+                                                          "mie/cut",
+                                                          "gauss",
+                                                          "beck",
+                                                          "lj/smooth/linear",
+                                                          "lj/gromacs"};
   return !no_file.count(style);
 }
 
@@ -173,7 +187,8 @@ void parse_type_range(std::string_view token, int ntypes, int& lo, int& hi, std:
         .line(line)
         .key(command)
         .value(token)
-        .expected(ntypes > 0 ? "an atom type or range (N, *, *N, N*, M*N) within 1.." + std::to_string(ntypes)
+        .expected(ntypes > 0 ? "an atom type or range (N, *, *N, N*, M*N) within 1.." +
+                                   std::to_string(ntypes)
                              : std::string("an atom type or range (N, *, *N, N*, M*N)"))
         .fix("use the atom types of the data file (its header's 'atom types' count)");
   };
@@ -220,12 +235,14 @@ void check_atom_types(PotentialSpec& spec, int ntypes) {
       const bool mapped = spec.pair_style.rfind("eam/", 0) == 0 || spec.pair_style == "tersoff" ||
                           spec.pair_style == "sw" || spec.pair_style.rfind("tersoff/", 0) == 0;
       if (mapped && nel != ntypes)
-        throw InputError("pair_coeff maps a different number of atom types than the configuration has")
+        throw InputError(
+            "pair_coeff maps a different number of atom types than the configuration has")
             .source(spec.source)
             .line(c.line_number)
             .key("pair_coeff")
             .value(c.line)
-            .expected(std::to_string(ntypes) + " element names (or NULL) after the file, one per atom type")
+            .expected(std::to_string(ntypes) +
+                      " element names (or NULL) after the file, one per atom type")
             .fix("list one element per atom type of the data file");
     }
   }
@@ -249,7 +266,8 @@ void check_atom_types(PotentialSpec& spec, int ntypes) {
             .expected("atom types 1.." + std::to_string(ntypes));
   }
   spec.ntypes = ntypes;
-  spec.type_mass.resize(static_cast<std::size_t>(ntypes + 1), std::numeric_limits<double>::quiet_NaN());
+  spec.type_mass.resize(static_cast<std::size_t>(ntypes + 1),
+                        std::numeric_limits<double>::quiet_NaN());
 }
 
 void require_supported_styles(const PotentialSpec& spec, bool lammps_enabled) {
@@ -299,9 +317,20 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     const TextLocation where{spec.source, c.line, cmd};
     auto need = [&](std::size_t n, std::string_view expected) {
       if (w.size() < n)
-        throw err(c, cmd, "too few arguments").value(c.text).expected(expected).fix("see https://docs.lammps.org/" + cmd + ".html");
+        throw err(c, cmd, "too few arguments")
+            .value(c.text)
+            .expected(expected)
+            .fix("see https://docs.lammps.org/" + cmd + ".html");
     };
     bool accepted = true;
+    static const std::set<std::string, std::less<>> kAccepted{
+        "units",       "atom_style", "mass",       "pair_style",   "pair_coeff",
+        "pair_modify", "bond_style", "bond_coeff", "special_bonds"};
+    if (kAccepted.count(cmd) && c.text.find('$') != std::string::npos)
+      throw err(c, cmd, "LAMMPS variables are not expanded in potential commands")
+          .value(c.text)
+          .expected("literal values")
+          .fix("replace ${name} or $x by its value");
     if (cmd == "units") {
       need(2, "units STYLE");
       spec.units = parse_unit_style(w[1], spec.source + ":" + std::to_string(c.line));
@@ -311,7 +340,8 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     } else if (cmd == "mass") {
       need(3, "mass TYPE VALUE");
       const double m = parse_double(w[2], where);
-      if (!(m > 0.0)) throw err(c, cmd, "mass must be positive").value(w[2]).expected("a positive mass");
+      if (!(m > 0.0))
+        throw err(c, cmd, "mass must be positive").value(w[2]).expected("a positive mass");
       if (w[1].find('*') == std::string::npos) {
         int lo, hi;
         parse_type_range(w[1], 0, lo, hi, spec.source, c.line, cmd);
@@ -332,7 +362,9 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     } else if (cmd == "pair_coeff") {
       need(3, "pair_coeff I J ARGS");
       if (spec.pair_style.empty())
-        throw err(c, cmd, "pair_coeff before pair_style").value(c.text).expected("a pair_style command first");
+        throw err(c, cmd, "pair_coeff before pair_style")
+            .value(c.text)
+            .expected("a pair_style command first");
       CoeffLine cl;
       cl.i = w[1];
       cl.j = w[2];
@@ -344,23 +376,28 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
       cl.line_number = c.line;
       int lo, hi;
       for (const auto* tok : {&cl.i, &cl.j}) {
-        if (tok->find('*') == std::string::npos) parse_type_range(*tok, ntypes, lo, hi, spec.source, c.line, cmd);
+        if (tok->find('*') == std::string::npos)
+          parse_type_range(*tok, ntypes, lo, hi, spec.source, c.line, cmd);
         max_type = std::max(max_type, max_type_in(*tok));
       }
       if (ntypes > 0)
-        for (const auto* tok : {&cl.i, &cl.j}) parse_type_range(*tok, ntypes, lo, hi, spec.source, c.line, cmd);
+        for (const auto* tok : {&cl.i, &cl.j})
+          parse_type_range(*tok, ntypes, lo, hi, spec.source, c.line, cmd);
       const std::string file = coeff_file_argument(spec, cl);
       if (!file.empty()) {
         const auto found = find_potential_file(file);
         if (!found)
           throw err(c, cmd, "potential file not found")
               .value(file)
-              .expected(std::string("a readable file: the path as given, or its name in $LAMMPS_POTENTIALS or ") +
-                        PDCG_LAMMPS_POTENTIALS_DIR)
+              .expected(
+                  std::string(
+                      "a readable file: the path as given, or its name in $LAMMPS_POTENTIALS or ") +
+                  PDCG_LAMMPS_POTENTIALS_DIR)
               .fix("check the file name, or set LAMMPS_POTENTIALS to the directory holding it");
         if (cl.i == "*" && cl.j == "*") {
           const std::size_t first = spec.pair_style.rfind("hybrid", 0) == 0 ? 2 : 1;
-          if (cl.args.size() > first) element_count = std::max(element_count, static_cast<int>(cl.args.size() - first));
+          if (cl.args.size() > first)
+            element_count = std::max(element_count, static_cast<int>(cl.args.size() - first));
         }
       }
       spec.pair_coeff.push_back(std::move(cl));
@@ -368,14 +405,18 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
       need(2, "pair_modify KEYWORD VALUE");
       for (std::size_t k = 1; k < w.size(); ++k) {
         if (w[k] == "shift" || w[k] == "tail" || w[k] == "compute" || w[k] == "table" ||
-            w[k] == "table/disp" || w[k] == "tabinner" || w[k] == "tabinner/disp" || w[k] == "nofdotr") {
+            w[k] == "table/disp" || w[k] == "tabinner" || w[k] == "tabinner/disp" ||
+            w[k] == "nofdotr") {
           if (w[k] != "nofdotr" && k + 1 >= w.size())
-            throw err(c, cmd, "keyword without value").value(w[k]).expected("a value after the keyword");
+            throw err(c, cmd, "keyword without value")
+                .value(w[k])
+                .expected("a value after the keyword");
           if (w[k] == "shift" && w[k + 1] != "yes" && w[k + 1] != "no")
             throw err(c, cmd, "bad shift value").value(w[k + 1]).expected("yes or no");
           if (w[k] != "nofdotr") ++k;
         } else if (w[k] == "mix") {
-          if (k + 1 >= w.size() || (w[k + 1] != "geometric" && w[k + 1] != "arithmetic" && w[k + 1] != "sixthpower"))
+          if (k + 1 >= w.size() ||
+              (w[k + 1] != "geometric" && w[k + 1] != "arithmetic" && w[k + 1] != "sixthpower"))
             throw err(c, cmd, "bad mixing rule")
                 .value(k + 1 < w.size() ? w[k + 1] : "")
                 .expected("geometric, arithmetic or sixthpower");
@@ -394,14 +435,18 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     } else if (cmd == "bond_coeff") {
       need(2, "bond_coeff N ARGS");
       if (spec.bond_style.empty())
-        throw err(c, cmd, "bond_coeff before bond_style").value(c.text).expected("a bond_style command first");
+        throw err(c, cmd, "bond_coeff before bond_style")
+            .value(c.text)
+            .expected("a bond_style command first");
       CoeffLine cl;
       cl.i = w[1];
       cl.args.assign(w.begin() + 2, w.end());
       cl.line = c.text;
       cl.line_number = c.line;
       if (!is_integer(cl.i) && cl.i.find('*') == std::string::npos)
-        throw err(c, cmd, "malformed bond type").value(cl.i).expected("a bond type (integer) or range");
+        throw err(c, cmd, "malformed bond type")
+            .value(cl.i)
+            .expected("a bond type (integer) or range");
       spec.bond_coeff.push_back(std::move(cl));
     } else if (cmd == "special_bonds") {
       need(2, "special_bonds KEYWORD VALUES");
@@ -411,11 +456,16 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
         const std::string& key = w[k];
         auto three = [&](std::array<double, 3>& a) {
           if (k + 3 >= w.size())
-            throw err(c, cmd, "too few factors").value(key).expected("three factors (1-2 1-3 1-4) after " + key);
+            throw err(c, cmd, "too few factors")
+                .value(key)
+                .expected("three factors (1-2 1-3 1-4) after " + key);
           for (int m = 0; m < 3; ++m) {
-            const double v = parse_double(w[k + 1 + static_cast<std::size_t>(m)], {spec.source, c.line, key});
+            const double v =
+                parse_double(w[k + 1 + static_cast<std::size_t>(m)], {spec.source, c.line, key});
             if (v < 0.0 || v > 1.0)
-              throw err(c, cmd, "special factor outside [0,1]").value(w[k + 1 + static_cast<std::size_t>(m)]).expected("a factor in [0, 1]");
+              throw err(c, cmd, "special factor outside [0,1]")
+                  .value(w[k + 1 + static_cast<std::size_t>(m)])
+                  .expected("a factor in [0, 1]");
             a[static_cast<std::size_t>(m)] = v;
           }
           k += 3;
@@ -438,7 +488,9 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
           lj = coul = {0.0, 1.0, 1.0};
         } else if (key == "angle" || key == "dihedral" || key == "one/five") {
           if (k + 1 >= w.size() || (w[k + 1] != "yes" && w[k + 1] != "no"))
-            throw err(c, cmd, "keyword needs yes or no").value(key).expected("yes or no after " + key);
+            throw err(c, cmd, "keyword needs yes or no")
+                .value(key)
+                .expected("yes or no after " + key);
           if (w[k + 1] == "yes")
             log::warn("{}:{}: special_bonds {} yes: pdcg finds 1-3/1-4 partners through bonds only",
                       spec.source, c.line, key);
@@ -446,7 +498,8 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
         } else {
           throw err(c, cmd, "unknown special_bonds keyword")
               .value(key)
-              .expected("lj/coul, lj, coul, amber, charmm, dreiding, fene, angle, dihedral, one/five");
+              .expected(
+                  "lj/coul, lj, coul, amber, charmm, dreiding, fene, angle, dihedral, one/five");
         }
       }
       spec.special_lj = lj;
@@ -475,13 +528,15 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
 
   if (!ignored.empty()) {
     std::string list;
-    for (const auto& [k, n] : ignored) list += (list.empty() ? "" : ", ") + k + (n > 1 ? " (" + std::to_string(n) + "x)" : "");
+    for (const auto& [k, n] : ignored)
+      list += (list.empty() ? "" : ", ") + k + (n > 1 ? " (" + std::to_string(n) + "x)" : "");
     log::info("{}: ignored commands that do not define the potential: {}", spec.source, list);
   }
 
   int nt = ntypes > 0 ? ntypes : deck_ntypes > 0 ? deck_ntypes : std::max(max_type, element_count);
   spec.ntypes = nt;
-  spec.type_mass.assign(static_cast<std::size_t>(std::max(nt, 0) + 1), std::numeric_limits<double>::quiet_NaN());
+  spec.type_mass.assign(static_cast<std::size_t>(std::max(nt, 0) + 1),
+                        std::numeric_limits<double>::quiet_NaN());
   for (const auto& m : masses) {
     int lo, hi;
     parse_type_range(m.range, nt, lo, hi, spec.source, m.line, "mass");

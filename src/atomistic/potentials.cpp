@@ -16,7 +16,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-InputError coeff_error(const PotentialSpec& spec, const CoeffLine& c, std::string_view cmd, std::string problem) {
+InputError coeff_error(const PotentialSpec& spec, const CoeffLine& c, std::string_view cmd,
+                       std::string problem) {
   InputError e(std::move(problem));
   e.source(spec.source).line(c.line_number).key(cmd);
   return e;
@@ -89,7 +90,10 @@ Modify pair_modify(const PotentialSpec& spec) {
   const auto& w = spec.pair_modify;
   for (std::size_t k = 0; k + 1 < w.size(); ++k) {
     if (w[k] == "shift") m.shift = w[k + 1] == "yes";
-    if (w[k] == "mix") m.mix = w[k + 1] == "arithmetic" ? Mix::arithmetic : w[k + 1] == "sixthpower" ? Mix::sixthpower : Mix::geometric;
+    if (w[k] == "mix")
+      m.mix = w[k + 1] == "arithmetic"   ? Mix::arithmetic
+              : w[k + 1] == "sixthpower" ? Mix::sixthpower
+                                         : Mix::geometric;
   }
   return m;
 }
@@ -100,7 +104,8 @@ struct TypeTable {
   int n = 0;
   std::vector<C> v;
   std::vector<char> set;
-  explicit TypeTable(int ntypes = 0) : n(ntypes), v(static_cast<std::size_t>((ntypes + 1) * (ntypes + 1))), set(v.size(), 0) {}
+  explicit TypeTable(int ntypes = 0)
+      : n(ntypes), v(static_cast<std::size_t>((ntypes + 1) * (ntypes + 1))), set(v.size(), 0) {}
   C& operator()(int i, int j) { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
   const C& operator()(int i, int j) const { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
   char& is_set(int i, int j) { return set[static_cast<std::size_t>(i * (n + 1) + j)]; }
@@ -114,7 +119,8 @@ double global_cutoff(const PotentialSpec& spec, std::string_view style) {
         .key("pair_style")
         .value(spec.pair_style)
         .expected(std::string("pair_style ") + std::string(style) + " CUTOFF");
-  const double rc = parse_double(spec.pair_style_args[0], {spec.source, spec.pair_style_line, "pair_style cutoff"});
+  const double rc = parse_double(spec.pair_style_args[0],
+                                 {spec.source, spec.pair_style_line, "pair_style cutoff"});
   if (!(rc > 0.0))
     throw InputError("pair_style cutoff must be positive")
         .source(spec.source)
@@ -138,15 +144,24 @@ void for_pairs(const PotentialSpec& spec, const CoeffLine& c, F&& f) {
       ++count;
     }
   if (count == 0)
-    throw InputError("pair_coeff sets no type pair").source(spec.source).line(c.line_number).key("pair_coeff").value(c.line).expected("I <= J");
+    throw InputError("pair_coeff sets no type pair")
+        .source(spec.source)
+        .line(c.line_number)
+        .key("pair_coeff")
+        .value(c.line)
+        .expected("I <= J");
 }
 
-void check_args(const PotentialSpec& spec, const CoeffLine& c, std::size_t lo, std::size_t hi, std::string_view usage) {
+void check_args(const PotentialSpec& spec, const CoeffLine& c, std::size_t lo, std::size_t hi,
+                std::string_view usage) {
   if (c.args.size() < lo || c.args.size() > hi)
-    throw coeff_error(spec, c, "pair_coeff", "wrong number of coefficients").value(c.line).expected(usage);
+    throw coeff_error(spec, c, "pair_coeff", "wrong number of coefficients")
+        .value(c.line)
+        .expected(usage);
 }
 
-void require_all_set(const PotentialSpec& spec, const std::vector<char>& diag_set, std::string_view style) {
+void require_all_set(const PotentialSpec& spec, const std::vector<char>& diag_set,
+                     std::string_view style) {
   for (int t = 1; t <= spec.ntypes; ++t)
     if (!diag_set[static_cast<std::size_t>(t)])
       throw InputError("pair coefficients missing for an atom type")
@@ -315,7 +330,8 @@ struct BondTable {
           fbond += 48.0 * b.epsilon * sr6 * (sr6 - 0.5) / rsq;
         }
         double ebond = -0.5 * b.k * r0sq * std::log(rlogarg);
-        if (rsq < TWO_1_3 * b.sigma * b.sigma) ebond += 4.0 * b.epsilon * sr6 * (sr6 - 1.0) + b.epsilon;
+        if (rsq < TWO_1_3 * b.sigma * b.sigma)
+          ebond += 4.0 * b.epsilon * sr6 * (sr6 - 1.0) + b.epsilon;
         return ebond;
       }
       case Style::zero:
@@ -352,9 +368,12 @@ BondTable build_bonds(const PotentialSpec& spec) {
   BondTable bt;
   if (spec.bond_style.empty()) return bt;
   using S = BondTable::Style;
-  if (spec.bond_style == "harmonic") bt.style = S::harmonic;
-  else if (spec.bond_style == "fene") bt.style = S::fene;
-  else if (spec.bond_style == "zero") bt.style = S::zero;
+  if (spec.bond_style == "harmonic")
+    bt.style = S::harmonic;
+  else if (spec.bond_style == "fene")
+    bt.style = S::fene;
+  else if (spec.bond_style == "zero")
+    bt.style = S::zero;
   else
     throw InputError("bond style has no native implementation")
         .source(spec.source)
@@ -375,7 +394,10 @@ BondTable build_bonds(const PotentialSpec& spec) {
     parse_type_range(c.i, maxtype, lo, hi, spec.source, c.line_number, "bond_coeff");
     BondTable::Coeff k;
     auto usage = [&](std::size_t n, std::string_view u) {
-      if (c.args.size() != n) throw coeff_error(spec, c, "bond_coeff", "wrong number of coefficients").value(c.line).expected(u);
+      if (c.args.size() != n)
+        throw coeff_error(spec, c, "bond_coeff", "wrong number of coefficients")
+            .value(c.line)
+            .expected(u);
     };
     if (bt.style == S::harmonic) {
       usage(2, "bond_coeff N K R0");
@@ -415,8 +437,13 @@ std::string style_name(const PotentialSpec& spec) {
 template <class Law>
 class PairModel final : public Potential {
  public:
-  PairModel(const PotentialSpec& spec, TypeTable<typename Law::Coeff> table, double cutoff, BondTable bonds)
-      : style_(style_name(spec)), ntypes_(spec.ntypes), table_(std::move(table)), cutoff_(cutoff), bonds_(std::move(bonds)) {}
+  PairModel(const PotentialSpec& spec, TypeTable<typename Law::Coeff> table, double cutoff,
+            BondTable bonds)
+      : style_(style_name(spec)),
+        ntypes_(spec.ntypes),
+        table_(std::move(table)),
+        cutoff_(cutoff),
+        bonds_(std::move(bonds)) {}
   std::string style() const override { return style_; }
   double cutoff() const override { return cutoff_; }
   int ntypes() const override { return ntypes_; }
@@ -478,8 +505,11 @@ class EamModel final : public Potential {
         m = std::min(m, e_.nr - 1);
         p -= m;
         p = std::min(p, 1.0);
-        const double* coeff = e_.rhor_spline[static_cast<std::size_t>(e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
-                                  .data() + 7 * m;
+        const double* coeff =
+            e_.rhor_spline[static_cast<std::size_t>(
+                               e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
+                .data() +
+            7 * m;
         rho += ((coeff[3] * p + coeff[4]) * p + coeff[5]) * p + coeff[6];
       }
     }
@@ -489,7 +519,10 @@ class EamModel final : public Potential {
     m = std::max(1, std::min(m, e_.nrho - 1));
     p -= m;
     p = std::min(p, 1.0);
-    const double* coeff = e_.frho_spline[static_cast<std::size_t>(e_.type2frho[static_cast<std::size_t>(kt)])].data() + 7 * m;
+    const double* coeff =
+        e_.frho_spline[static_cast<std::size_t>(e_.type2frho[static_cast<std::size_t>(kt)])]
+            .data() +
+        7 * m;
     const double fp = (coeff[0] * p + coeff[1]) * p + coeff[2];
     double psi = ((coeff[3] * p + coeff[4]) * p + coeff[5]) * p + coeff[6];
     if (rho > e_.rhomax) psi += fp * (rho - e_.rhomax);
@@ -506,9 +539,15 @@ class EamModel final : public Potential {
         mm = std::min(mm, e_.nr - 1);
         q -= mm;
         q = std::min(q, 1.0);
-        const double* c1 = e_.rhor_spline[static_cast<std::size_t>(e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])].data() + 7 * mm;
+        const double* c1 = e_.rhor_spline[static_cast<std::size_t>(
+                                              e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
+                               .data() +
+                           7 * mm;
         const double rhojp = (c1[0] * q + c1[1]) * q + c1[2];
-        const double* c2 = e_.z2r_spline[static_cast<std::size_t>(e_.type2z2r[static_cast<std::size_t>(kt * n1 + jt)])].data() + 7 * mm;
+        const double* c2 = e_.z2r_spline[static_cast<std::size_t>(
+                                             e_.type2z2r[static_cast<std::size_t>(kt * n1 + jt)])]
+                               .data() +
+                           7 * mm;
         const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
         const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
         const double recip = 1.0 / r;
@@ -540,7 +579,9 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
         .expected("pair_coeff/mass commands naming the types, or the data file's type count")
         .fix("pass the configuration's number of atom types to read_potential_commands");
   if (spec.pair_style.empty() && spec.bond_style.empty())
-    throw InputError("no pair_style and no bond_style").source(spec.source).expected("at least one interaction style");
+    throw InputError("no pair_style and no bond_style")
+        .source(spec.source)
+        .expected("at least one interaction style");
   BondTable bonds = build_bonds(spec);
   const std::string& ps = spec.pair_style;
   double cutmax = 0.0;
@@ -570,8 +611,9 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
       .key("pair_style")
       .value(ps)
       .expected("lj/cut, morse, zero, eam, eam/alloy or eam/fs")
-      .fix("evaluate per-atom energies and forces through embedded LAMMPS (LammpsEngine); PD force "
-           "states for many-body fallback styles are not available yet");
+      .fix(
+          "evaluate per-atom energies and forces through embedded LAMMPS (LammpsEngine); PD force "
+          "states for many-body fallback styles are not available yet");
 }
 
 }  // namespace pdcg::atomistic

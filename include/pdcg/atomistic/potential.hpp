@@ -26,7 +26,7 @@ namespace pdcg::atomistic {
 
 /// One pair_coeff / bond_coeff command as written.
 struct CoeffLine {
-  std::string i, j;               ///< type ranges as written ("1", "*", "2*4"); j empty for bond_coeff
+  std::string i, j;  ///< type ranges as written ("1", "*", "2*4"); j empty for bond_coeff
   std::vector<std::string> args;  ///< remaining words
   std::string line;               ///< the full command line, verbatim
   long line_number = 0;           ///< in `source`
@@ -40,17 +40,19 @@ struct PotentialSpec {
   std::string atom_style = "atomic";
   /// `mass` commands: type_mass[t] for t = 1..ntypes (index 0 unused), NaN if unset.
   std::vector<double> type_mass;
-  int ntypes = 0;  ///< number of atom types (from masses/coefficients or the data file)
+  int ntypes = 0;          ///< number of atom types (from masses/coefficients or the data file)
   std::string pair_style;  ///< e.g. "lj/cut", "eam/alloy", "zero", "tersoff"; empty = none
   std::vector<std::string> pair_style_args;
   long pair_style_line = 0;  ///< line of the pair_style command in `source` (0 = none)
   std::vector<CoeffLine> pair_coeff;
-  std::vector<std::string> pair_modify;  ///< words of `pair_modify` (e.g. "shift", "yes", "mix", "arithmetic")
-  std::string bond_style;                ///< e.g. "harmonic", "fene"; empty = none
+  std::vector<std::string>
+      pair_modify;         ///< words of `pair_modify` (e.g. "shift", "yes", "mix", "arithmetic")
+  std::string bond_style;  ///< e.g. "harmonic", "fene"; empty = none
   std::vector<std::string> bond_style_args;
   long bond_style_line = 0;  ///< line of the bond_style command in `source` (0 = none)
   std::vector<CoeffLine> bond_coeff;
-  std::array<double, 3> special_lj{0.0, 0.0, 0.0};    ///< special_bonds lj 1-2, 1-3, 1-4 (LAMMPS default 0 0 0)
+  std::array<double, 3> special_lj{0.0, 0.0,
+                                   0.0};  ///< special_bonds lj 1-2, 1-3, 1-4 (LAMMPS default 0 0 0)
   std::array<double, 3> special_coul{0.0, 0.0, 0.0};  ///< special_bonds coul
   /// Every accepted command line verbatim, in order: what an HDF5 model stores and what
   /// embedded LAMMPS replays.
@@ -59,12 +61,13 @@ struct PotentialSpec {
 
 /// One family as a potential sees it. Pointers are borrowed (non-owning), valid for the call.
 struct FamilyState {
-  int type = 0;                         ///< LAMMPS type of the centre atom k (1-based)
-  std::int64_t size = 0;                ///< number of bonds n
-  const int* neighbor_type = nullptr;   ///< n types of the partners j
-  const double* bond = nullptr;         ///< 3n deformed bond vectors Y⟨ξ_kj⟩ = y_j − y_k (interleaved xyz)
-  const double* pair_factor = nullptr;  ///< n special_bonds factors for the pair term; nullptr = all 1
-  const int* bond_type = nullptr;       ///< n molecular bond types (0 = not bonded); nullptr = none
+  int type = 0;                        ///< LAMMPS type of the centre atom k (1-based)
+  std::int64_t size = 0;               ///< number of bonds n
+  const int* neighbor_type = nullptr;  ///< n types of the partners j
+  const double* bond = nullptr;  ///< 3n deformed bond vectors Y⟨ξ_kj⟩ = y_j − y_k (interleaved xyz)
+  const double* pair_factor =
+      nullptr;                     ///< n special_bonds factors for the pair term; nullptr = all 1
+  const int* bond_type = nullptr;  ///< n molecular bond types (0 = not bonded); nullptr = none
 };
 
 class Potential {

@@ -2,7 +2,8 @@
 /// Reading the LAMMPS commands that define an interaction model.
 ///
 /// Users write potentials as LAMMPS commands: either a short file with only those commands or
-/// a full input deck. The reader follows LAMMPS's input syntax (https://docs.lammps.org/Commands_parse.html):
+/// a full input deck. The reader follows LAMMPS's input syntax
+/// (https://docs.lammps.org/Commands_parse.html):
 /// `#` starts a comment (outside quotes), a trailing `&` continues a command on the next line,
 /// words are separated by blanks. Accepted commands: `units`, `atom_style`, `mass`,
 /// `pair_style`, `pair_coeff`, `pair_modify`, `bond_style`, `bond_coeff`, `special_bonds`.
@@ -45,8 +46,8 @@ std::optional<std::string> find_potential_file(std::string_view name);
 
 /// Parses a LAMMPS type range ("3", "*", "*2", "2*", "1*3") against ntypes into [lo, hi].
 /// Throws InputError (with `where`) if malformed or outside 1..ntypes.
-void parse_type_range(std::string_view token, int ntypes, int& lo, int& hi,
-                      std::string_view source, long line, std::string_view command);
+void parse_type_range(std::string_view token, int ntypes, int& lo, int& hi, std::string_view source,
+                      long line, std::string_view command);
 
 /// The potential file a pair_coeff line names, resolved (empty if the style takes no file).
 /// For styles whose coefficients start with a file name (many-body styles, `pair_coeff * *

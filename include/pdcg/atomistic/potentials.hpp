@@ -21,7 +21,8 @@
 /// Native bond styles (https://docs.lammps.org/bond_style.html), ψ_k += ½ E_b(r_kj) for every
 /// molecular bond partner:
 ///   harmonic   E = K (r − r₀)²
-///   fene       E = −½ K R₀² ln[1 − (r/R₀)²] + 4ε[(σ/r)¹² − (σ/r)⁶] + ε  (LJ part for r < 2^{1/6}σ),
+///   fene       E = −½ K R₀² ln[1 − (r/R₀)²] + 4ε[(σ/r)¹² − (σ/r)⁶] + ε  (LJ part for r <
+///   2^{1/6}σ),
 ///              with LAMMPS's clamp of the log argument at 0.1 (BondFENE::compute)
 ///   zero       E = 0
 #pragma once

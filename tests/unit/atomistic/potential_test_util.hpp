@@ -75,7 +75,8 @@ struct PdResult {
 
 /// ψ_k and f_k through families (cutoff × `family_margin`, so bonds beyond the potential's
 /// cutoff exist and must carry nothing), force states and PD forces.
-inline PdResult pd_evaluate(const atomistic::Potential& pot, const Atoms& at, double family_margin = 1.15,
+inline PdResult pd_evaluate(const atomistic::Potential& pot, const Atoms& at,
+                            double family_margin = 1.15,
                             const std::vector<atomistic::Bond>* bonds = nullptr,
                             std::array<double, 3> special = {1, 1, 1}) {
   atomistic::FamilyOptions opt;

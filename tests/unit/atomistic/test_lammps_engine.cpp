@@ -27,8 +27,9 @@ Atoms diamond(int n, double a, double noise, unsigned seed) {
   at.box.hi = {n * a, n * a, n * a};
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[8][3] = {{0, 0, 0},       {0.5, 0.5, 0},     {0.5, 0, 0.5},     {0, 0.5, 0.5},
-                              {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25}, {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
+  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
+                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
+                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
   std::int64_t id = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
@@ -36,8 +37,9 @@ Atoms diamond(int n, double a, double noise, unsigned seed) {
         for (const auto& b : basis) {
           at.id.push_back(++id);
           at.type.push_back(1);
-          at.x.insert(at.x.end(), {(i + b[0]) * a + noise * a * u(rng), (j + b[1]) * a + noise * a * u(rng),
-                                   (k + b[2]) * a + noise * a * u(rng)});
+          at.x.insert(at.x.end(),
+                      {(i + b[0]) * a + noise * a * u(rng), (j + b[1]) * a + noise * a * u(rng),
+                       (k + b[2]) * a + noise * a * u(rng)});
         }
   return at;
 }
@@ -53,21 +55,25 @@ Reference run_lmp(const Atoms& at, const std::string& potential_lines, const std
   {
     std::ofstream d(dir / "conf.data");
     d.precision(17);
-    d << "Si test\n\n" << at.size() << " atoms\n1 atom types\n"
+    d << "Si test\n\n"
+      << at.size() << " atoms\n1 atom types\n"
       << at.box.lo[0] << ' ' << at.box.hi[0] << " xlo xhi\n"
       << at.box.lo[1] << ' ' << at.box.hi[1] << " ylo yhi\n"
       << at.box.lo[2] << ' ' << at.box.hi[2] << " zlo zhi\n\nMasses\n\n1 28.0855\n\nAtoms\n\n";
     for (std::size_t i = 0; i < at.size(); ++i)
-      d << at.id[i] << " 1 " << at.x[3 * i] << ' ' << at.x[3 * i + 1] << ' ' << at.x[3 * i + 2] << '\n';
+      d << at.id[i] << " 1 " << at.x[3 * i] << ' ' << at.x[3 * i + 1] << ' ' << at.x[3 * i + 2]
+        << '\n';
   }
   {
     std::ofstream in(dir / "in.run");
-    in << "units metal\natom_style atomic\nboundary p p p\nread_data " << (dir / "conf.data").string() << "\n"
+    in << "units metal\natom_style atomic\nboundary p p p\nread_data "
+       << (dir / "conf.data").string() << "\n"
        << potential_lines << "compute pe all pe/atom\n"
        << "dump d all custom 1 " << (dir / "out.dump").string() << " id fx fy fz c_pe\n"
        << "dump_modify d format float %.17g sort id\nrun 0\n";
   }
-  const std::string cmd = "cd " + dir.string() + " && lmp -in in.run -log none -screen none -nocite > lmp.out 2>&1";
+  const std::string cmd =
+      "cd " + dir.string() + " && lmp -in in.run -log none -screen none -nocite > lmp.out 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << "lmp failed, see " << dir / "lmp.out";
   Reference r;
   r.pe.assign(at.size(), 0.0);
@@ -102,11 +108,13 @@ Reference run_lmp(const Atoms& at, const std::string& potential_lines, const std
 TEST(LammpsEngine, TersoffFallbackMatchesLmpDump) {
   const std::string lines = "pair_style tersoff\npair_coeff * * Si.tersoff Si\n";
   const Atoms at = diamond(3, 5.431, 0.03, 61);
-  const PotentialSpec spec = read_potential_commands_from_string("units metal\n" + lines, "si-tersoff.in", 1);
+  const PotentialSpec spec =
+      read_potential_commands_from_string("units metal\n" + lines, "si-tersoff.in", 1);
   const LammpsEngine engine(spec);
   const LammpsResult r = engine.evaluate(at);
   // lmp resolves "Si.tersoff" through $LAMMPS_POTENTIALS; give it the resolved path
-  const std::string resolved = "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n";
+  const std::string resolved =
+      "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n";
   const Reference ref = run_lmp(at, resolved, "tersoff");
   // Same LAMMPS code on the same (17-digit) positions; only the I/O differs: round-off.
   EXPECT_LT(pdcg::test::max_norm_relative_error(r.force, ref.f), 1e-12);
@@ -117,9 +125,11 @@ TEST(LammpsEngine, TersoffFallbackMatchesLmpDump) {
 }
 
 TEST(LammpsEngine, StillingerWeberFallbackMatchesLmpDump) {
-  const std::string lines = "pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n";
+  const std::string lines =
+      "pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n";
   const Atoms at = diamond(3, 5.431, 0.03, 62);
-  const LammpsEngine engine(read_potential_commands_from_string("units metal\n" + lines, "si-sw.in", 1));
+  const LammpsEngine engine(
+      read_potential_commands_from_string("units metal\n" + lines, "si-sw.in", 1));
   const LammpsResult r = engine.evaluate(at);
   const Reference ref = run_lmp(at, lines, "sw");
   // Same LAMMPS code on the same positions: round-off.
@@ -128,7 +138,8 @@ TEST(LammpsEngine, StillingerWeberFallbackMatchesLmpDump) {
 }
 
 TEST(LammpsEngine, UnknownStyleIsAnInputErrorNotAnAbort) {
-  const auto spec = read_potential_commands_from_string("pair_style no/such/style 2.0\npair_coeff * * 1 1\n", "bad.in", 1);
+  const auto spec = read_potential_commands_from_string(
+      "pair_style no/such/style 2.0\npair_coeff * * 1 1\n", "bad.in", 1);
   try {
     LammpsEngine e(spec);
     FAIL() << "expected InputError";
@@ -139,10 +150,36 @@ TEST(LammpsEngine, UnknownStyleIsAnInputErrorNotAnAbort) {
 }
 
 TEST(LammpsEngine, AtomTypeBeyondPotentialIsAnInputError) {
-  const auto spec = read_potential_commands_from_string("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1 1\n", "t.in");
+  const auto spec = read_potential_commands_from_string(
+      "units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1 1\n", "t.in");
   const LammpsEngine engine(spec);
   Atoms at = diamond(1, 3.0, 0.0, 1);
   at.type[3] = 2;
   EXPECT_THROW(engine.evaluate(at), pdcg::InputError);
+}
+
+TEST(LammpsEngine, MolecularChecksBeforeLammpsCouldAbort) {
+  const std::string fene =
+      "units lj\natom_style bond\npair_style lj/cut 1.12\npair_coeff * * 1 1\nbond_style fene\n"
+      "bond_coeff 1 30 1.5 1 1\nspecial_bonds fene\n";
+  const LammpsEngine engine(read_potential_commands_from_string(fene, "fene.in", 1));
+  Atoms at = diamond(2, 4.0, 0.0, 1);
+  // no bonds at all: the bond type still exists for bond_coeff (LAMMPS would abort otherwise)
+  EXPECT_NO_THROW(engine.evaluate(at));
+  // a bond longer than 2 R0 = 3: "Bad FENE bond" in LAMMPS, an InputError here
+  at.bonds.push_back({1, 1, 2});  // (0,0,0)-(2,2,0): 2.83 < 3: fine
+  EXPECT_NO_THROW(engine.evaluate(at));
+  at.bonds.push_back({1, 1, 5});   // (0,0,0)-(1,1,1) = 1.73: fine
+  at.bonds.push_back({1, 1, 36});  // (0,0,0)-(4,2,2) = 4.9 > 3 (box 8: no shorter image)
+  try {
+    engine.evaluate(at);
+    FAIL() << "expected InputError";
+  } catch (const pdcg::InputError& e) {
+    EXPECT_EQ(e.line_number(), 6);
+  }
+  // bond_style with an atom style without bonds
+  EXPECT_THROW(LammpsEngine(read_potential_commands_from_string(
+                   "units lj\nbond_style harmonic\nbond_coeff 1 1 1\n", "b.in", 1)),
+               pdcg::InputError);
 }
 #endif  // PDCG_WITH_LAMMPS

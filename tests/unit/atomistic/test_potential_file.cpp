@@ -81,17 +81,21 @@ TEST(PotentialFile, SpecialBondsKeywordsAndDefaults) {
   s = read_potential_commands_from_string("special_bonds lj/coul 0.0 0.5 1.0\n", "x", 1);
   EXPECT_EQ(s.special_coul, (std::array<double, 3>{0, 0.5, 1}));
   // each special_bonds command starts from the defaults (LAMMPS Force::set_special)
-  s = read_potential_commands_from_string("special_bonds lj 1 1 1\nspecial_bonds coul 0 1 1\n", "x", 1);
+  s = read_potential_commands_from_string("special_bonds lj 1 1 1\nspecial_bonds coul 0 1 1\n", "x",
+                                          1);
   EXPECT_EQ(s.special_lj, (std::array<double, 3>{0, 0, 0}));
-  const auto e = input_error([] { read_potential_commands_from_string("special_bonds lj 0 1\n", "sb.in", 1); });
+  const auto e = input_error(
+      [] { read_potential_commands_from_string("special_bonds lj 0 1\n", "sb.in", 1); });
   EXPECT_EQ(e.line_number(), 1);
-  const auto e2 = input_error([] { read_potential_commands_from_string("\nspecial_bonds banana\n", "sb.in", 1); });
+  const auto e2 = input_error(
+      [] { read_potential_commands_from_string("\nspecial_bonds banana\n", "sb.in", 1); });
   EXPECT_EQ(e2.line_number(), 2);
   EXPECT_EQ(e2.bad_value(), "banana");
 }
 
 TEST(PotentialFile, UnknownAtomTypeInPairCoeff) {
-  const std::string text = "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 1 3 1.0 1.0\n";
+  const std::string text =
+      "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 1 3 1.0 1.0\n";
   const auto e = input_error([&] { read_potential_commands_from_string(text, "types.in", 2); });
   EXPECT_EQ(e.source_name(), "types.in");
   EXPECT_EQ(e.line_number(), 3);
@@ -111,17 +115,20 @@ TEST(PotentialFile, MalformedNumber) {
   const auto e = input_error([&] { make_potential(s); });
   EXPECT_EQ(e.line_number(), 2);
   EXPECT_EQ(e.bad_value(), "1.0x");
-  const auto e2 = input_error([] { read_potential_commands_from_string("mass 1 abc\n", "num.in"); });
+  const auto e2 =
+      input_error([] { read_potential_commands_from_string("mass 1 abc\n", "num.in"); });
   EXPECT_EQ(e2.line_number(), 1);
   EXPECT_EQ(e2.bad_value(), "abc");
   const auto e3 = input_error([] {
-    make_potential(read_potential_commands_from_string("pair_style lj/cut nan\npair_coeff 1 1 1 1\n", "num.in"));
+    make_potential(read_potential_commands_from_string(
+        "pair_style lj/cut nan\npair_coeff 1 1 1 1\n", "num.in"));
   });
   EXPECT_EQ(e3.line_number(), 1);
 }
 
 TEST(PotentialFile, MissingPotentialFile) {
-  const std::string text = "units metal\npair_style eam/alloy\npair_coeff * * NoSuchFile.eam.alloy Cu\n";
+  const std::string text =
+      "units metal\npair_style eam/alloy\npair_coeff * * NoSuchFile.eam.alloy Cu\n";
   const auto e = input_error([&] { read_potential_commands_from_string(text, "eam.in"); });
   EXPECT_EQ(e.source_name(), "eam.in");
   EXPECT_EQ(e.line_number(), 3);
@@ -130,7 +137,8 @@ TEST(PotentialFile, MissingPotentialFile) {
 
 TEST(PotentialFile, PotentialFilesFoundByNameInLammpsDirectory) {
   // by name: found in $LAMMPS_POTENTIALS or the LAMMPS potentials directory
-  const auto s = read_potential_commands_from_string("pair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", "x");
+  const auto s = read_potential_commands_from_string(
+      "pair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", "x");
   EXPECT_EQ(s.ntypes, 1);
   EXPECT_TRUE(find_potential_file("Cu_mishin1.eam.alloy").has_value());
   EXPECT_FALSE(find_potential_file("surely/not/here.eam").has_value());
@@ -144,7 +152,8 @@ TEST(PotentialFile, UnsupportedStyleWithoutLammps) {
   EXPECT_EQ(e.bad_value(), "tersoff");
   EXPECT_NO_THROW(require_supported_styles(s, true));
   // native styles need no LAMMPS
-  EXPECT_NO_THROW(require_supported_styles(read_potential_commands_from_string("pair_style morse 3\n", "x"), false));
+  EXPECT_NO_THROW(require_supported_styles(
+      read_potential_commands_from_string("pair_style morse 3\n", "x"), false));
   // no force states for non-native styles, even with LAMMPS
   EXPECT_THROW(make_potential(s), pdcg::InputError);
 }
@@ -161,4 +170,26 @@ TEST(PotentialFile, TypeRanges) {
   EXPECT_THROW(parse_type_range("0", 4, lo, hi, "x", 1, "c"), pdcg::InputError);
   EXPECT_THROW(parse_type_range("2*5", 4, lo, hi, "x", 1, "c"), pdcg::InputError);
   EXPECT_THROW(parse_type_range("a", 4, lo, hi, "x", 1, "c"), pdcg::InputError);
+}
+
+TEST(PotentialFile, VariablesAreRejectedWithAClearMessage) {
+  const auto e = input_error(
+      [] { read_potential_commands_from_string("pair_style lj/cut ${rc}\n", "v.in", 1); });
+  EXPECT_EQ(e.line_number(), 1);
+  EXPECT_EQ(e.key_name(), "pair_style");
+  // variables elsewhere in a deck do not matter
+  EXPECT_NO_THROW(read_potential_commands_from_string(
+      "variable t equal 300\nvelocity all create ${t} 1\npair_style zero 2\npair_coeff * *\n",
+      "v.in", 1));
+}
+
+TEST(PotentialFile, CommentsQuotesAndContinuation) {
+  const auto s = read_potential_commands_from_string(
+      "pair_style lj/cut 2.5 # comment & not a continuation\n"
+      "pair_coeff 1 1 &\n  1.0 &\n  1.0 # trailing\n",
+      "c.in");
+  ASSERT_EQ(s.pair_coeff.size(), 1u);
+  EXPECT_EQ(s.pair_coeff[0].args, (std::vector<std::string>{"1.0", "1.0"}));
+  EXPECT_EQ(s.pair_coeff[0].line_number, 2);
+  EXPECT_EQ(s.pair_style_args, (std::vector<std::string>{"2.5"}));
 }

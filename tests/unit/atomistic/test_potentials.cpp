@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -27,20 +29,25 @@ constexpr double kTol = 1e-10;
 void compare(const std::string& commands, const Atoms& atoms, double family_margin = 1.15) {
   // the configuration declares the type count (as a data file header does)
   const int ntypes = *std::max_element(atoms.type.begin(), atoms.type.end());
-  const PotentialSpec spec = read_potential_commands_from_string(commands, "test-potential", ntypes);
+  const PotentialSpec spec =
+      read_potential_commands_from_string(commands, "test-potential", ntypes);
   const auto pot = make_potential(spec);
   const bool bonded = !atoms.bonds.empty();
-  const auto pd = pdcg::test::pd_evaluate(*pot, atoms, family_margin, bonded ? &atoms.bonds : nullptr,
-                                          bonded ? spec.special_lj : std::array<double, 3>{1, 1, 1});
+  const auto pd =
+      pdcg::test::pd_evaluate(*pot, atoms, family_margin, bonded ? &atoms.bonds : nullptr,
+                              bonded ? spec.special_lj : std::array<double, 3>{1, 1, 1});
 #if PDCG_WITH_LAMMPS
   const LammpsEngine engine(spec);
   const LammpsResult ref = engine.evaluate(atoms);
   ASSERT_EQ(ref.energy.size(), atoms.size());
-  const double fmax = *std::max_element(ref.force.begin(), ref.force.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+  const double fmax = *std::max_element(ref.force.begin(), ref.force.end(), [](double a, double b) {
+    return std::abs(a) < std::abs(b);
+  });
   EXPECT_GT(std::abs(fmax), 0.0) << "configuration must be strained for a meaningful force test";
-  const double e_err = max_norm_relative_error(pd.psi, ref.energy), f_err = max_norm_relative_error(pd.force, ref.force);
-  std::printf("  [%s] %zu atoms: energy error %.2e, force error %.2e (|f|max %.3g, U %.10g)\n", pot->style().c_str(),
-              atoms.size(), e_err, f_err, std::abs(fmax), ref.total_energy);
+  const double e_err = max_norm_relative_error(pd.psi, ref.energy),
+               f_err = max_norm_relative_error(pd.force, ref.force);
+  std::printf("  [%s] %zu atoms: energy error %.2e, force error %.2e (|f|max %.3g, U %.10g)\n",
+              pot->style().c_str(), atoms.size(), e_err, f_err, std::abs(fmax), ref.total_energy);
   EXPECT_LT(e_err, kTol) << spec.pair_style << " energies";
   EXPECT_LT(f_err, kTol) << spec.pair_style << " forces";
   EXPECT_TRUE(pdcg::test::close(pd.total, ref.total_energy, {0, kTol}));
@@ -54,7 +61,20 @@ void compare(const std::string& commands, const Atoms& atoms, double family_marg
       s[k] += pd.force[3 * i + static_cast<std::size_t>(k)];
       fm = std::max(fm, std::abs(pd.force[3 * i + static_cast<std::size_t>(k)]));
     }
-  for (double v : s) EXPECT_LT(std::abs(v), 1e-11 * fm * static_cast<double>(atoms.size()));  // round-off of N terms
+  for (double v : s)
+    EXPECT_LT(std::abs(v), 1e-11 * fm * static_cast<double>(atoms.size()));  // round-off of N terms
+  // Σ y × f = 0 for a free cluster (central bond forces; DESIGN §2.1 objectivity check)
+  if (!atoms.box.periodic[0] && !atoms.box.periodic[1] && !atoms.box.periodic[2]) {
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+    double scale = 0;
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+      const Eigen::Vector3d y(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]);
+      const Eigen::Vector3d f(pd.force[3 * i], pd.force[3 * i + 1], pd.force[3 * i + 2]);
+      torque += y.cross(f);
+      scale += y.norm() * f.norm();
+    }
+    EXPECT_LT(torque.norm(), 1e-12 * scale);  // round-off of N cross products
+  }
 }
 
 const char* kLJ = R"(
@@ -144,19 +164,24 @@ void compare_eam(const std::string& cmds, double a0, int ntypes, unsigned seed) 
 }
 }  // namespace
 
-TEST(PotentialsEAM, FuncflCu) { compare_eam("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 3.615, 1, 31); }
+TEST(PotentialsEAM, FuncflCu) {
+  compare_eam("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 3.615, 1, 31);
+}
 
 TEST(PotentialsEAM, FuncflTwoFilesCuNi) {
   // different dr and cutoffs: LAMMPS regrids both files (Lagrange) onto the larger spacing
-  compare_eam("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\npair_coeff 2 2 Ni_u3.eam\n", 3.57, 2, 33);
+  compare_eam("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\npair_coeff 2 2 Ni_u3.eam\n",
+              3.57, 2, 33);
 }
 
 TEST(PotentialsEAM, SetflCuMishin) {
-  compare_eam("units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", 3.615, 1, 35);
+  compare_eam("units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", 3.615,
+              1, 35);
 }
 
 TEST(PotentialsEAM, SetflAlCuTwoTypes) {
-  compare_eam("units metal\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Al Cu\n", 3.85, 2, 37);
+  compare_eam("units metal\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Al Cu\n", 3.85, 2,
+              37);
 }
 
 TEST(PotentialsEAM, FinnisSinclairAlFe) {
@@ -166,7 +191,8 @@ TEST(PotentialsEAM, FinnisSinclairAlFe) {
 TEST(PotentialsEAM, FinnisSinclairAsymmetricDensityTypesMappedToSameElement) {
   // NiAlH_jea.eam.fs has ρ_NiAl ≠ ρ_AlNi (AlFe_mm and CuZr_mm are symmetric): only this file
   // tells which element pair feeds which host density
-  compare_eam("units metal\npair_style eam/fs\npair_coeff * * NiAlH_jea.eam.fs Ni Al Ni\n", 3.6, 3, 41);
+  compare_eam("units metal\npair_style eam/fs\npair_coeff * * NiAlH_jea.eam.fs Ni Al Ni\n", 3.6, 3,
+              41);
 }
 
 TEST(PotentialsEAM, MassesComeFromTheFile) {
@@ -188,14 +214,16 @@ namespace {
 Atoms chains(int n, double a, double noise, int nbondtypes, unsigned seed, bool periodic = true) {
   Atoms at = fcc(n, n, n, a, noise, 1, seed);
   for (std::int64_t first = 1; first <= static_cast<std::int64_t>(at.size()); first += 4)
-    for (int k = 0; k < 3; ++k) at.bonds.push_back({1 + (k % nbondtypes), first + k, first + k + 1});
+    for (int k = 0; k < 3; ++k)
+      at.bonds.push_back({1 + (k % nbondtypes), first + k, first + k + 1});
   for (std::size_t i = 0; i < at.size(); ++i) at.type[i] = 1 + static_cast<int>(i % 4 == 0);
   if (periodic) {
     for (std::size_t i = 0; i < at.size(); ++i) {
       Eigen::Vector3i image(0, 0, 0);
-      const Eigen::Vector3d x = at.box.wrap(Eigen::Vector3d(at.x[3 * i], at.x[3 * i + 1], at.x[3 * i + 2]) +
-                                                Eigen::Vector3d::Constant(0.3 * a),
-                                            image);
+      const Eigen::Vector3d x =
+          at.box.wrap(Eigen::Vector3d(at.x[3 * i], at.x[3 * i + 1], at.x[3 * i + 2]) +
+                          Eigen::Vector3d::Constant(0.3 * a),
+                      image);
       for (int k = 0; k < 3; ++k) at.x[3 * i + static_cast<std::size_t>(k)] = x[k];
     }
   } else {
@@ -245,14 +273,69 @@ TEST(PotentialsBonds, HarmonicTwoBondTypesFractionalSpecialFactors) {
 }
 
 TEST(PotentialsBonds, BondsWithPairStyleZero) {
-  const std::string cmds = "units lj\natom_style bond\npair_style zero 1.3\npair_coeff * *\nbond_style harmonic\n"
-                           "bond_coeff 1 100.0 1.05\nspecial_bonds lj/coul 0 1 1\n";
+  const std::string cmds =
+      "units lj\natom_style bond\npair_style zero 1.3\npair_coeff * *\nbond_style harmonic\n"
+      "bond_coeff 1 100.0 1.05\nspecial_bonds lj/coul 0 1 1\n";
   compare(cmds, chains(4, 1.5599, 0.05, 1, 55));
 }
 
 TEST(PotentialsEAM, StronglyCompressedAndStretched) {
   // far from equilibrium: other spline intervals, short distances (r·rdr near the table start)
-  const std::string cmds = "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n";
+  const std::string cmds =
+      "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n";
   compare(cmds, fcc(4, 4, 4, 3.615 * 0.72, 0.05, 1, 43));
   compare(cmds, fcc(3, 3, 3, 3.615 * 1.25, 0.05, 1, 44));
+}
+
+// ---------------------------------------------------------------------------------------
+// A user setfl file given by path (not in the LAMMPS directory), written here from analytic
+// functions, with ρ_max small enough that bulk atoms exceed it: exercises LAMMPS's linear
+// extension of F beyond the table.
+
+namespace {
+std::string write_setfl(double rhomax) {
+  const int nrho = 200, nr = 500;
+  const double drho = rhomax / (nrho - 1), dr = 0.01, cut = 4.9;
+  const auto path = std::filesystem::temp_directory_path() / "pdcg_test_AB.eam.alloy";
+  std::ofstream out(path);
+  out.precision(17);
+  out << "synthetic two-element setfl for pdcg tests\nF = -a sqrt(rho) + b rho^2, rho(r) = c "
+         "(rc-r)^2, "
+         "r phi = d r (rc-r)^3 (e - r)\n#\n2 A B\n"
+      << nrho << ' ' << drho << ' ' << nr << ' ' << dr << ' ' << cut << '\n';
+  auto block = [&](int n, auto f) {
+    for (int m = 0; m < n; ++m) out << f(m) << ((m % 5 == 4 || m == n - 1) ? '\n' : ' ');
+  };
+  const double a[2] = {1.0, 1.3}, b[2] = {0.002, 0.001}, c[2] = {0.25, 0.18};
+  for (int e = 0; e < 2; ++e) {
+    out << (e + 10) << ' ' << (20.0 + e) << " 3.6 fcc\n";
+    block(nrho, [&](int m) {
+      const double rho = m * drho;
+      return -a[e] * std::sqrt(rho) + b[e] * rho * rho;
+    });
+    block(nr, [&](int m) {
+      const double r = m * dr;
+      return r < cut ? c[e] * (cut - r) * (cut - r) : 0.0;
+    });
+  }
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j <= i; ++j)
+      block(nr, [&](int m) {
+        const double r = m * dr, d = 0.02 * (1 + i + j);
+        return r < cut ? d * r * std::pow(cut - r, 3) * (2.4 - r) : 0.0;
+      });
+  return path.string();
+}
+}  // namespace
+
+TEST(PotentialsEAM, UserSetflByPathBeyondRhoMax) {
+  // bulk ρ̄ ≈ 12·0.25·(4.9−2.55)² + … ≈ 20: ρ_max = 8 puts every atom on the linear extension
+  const std::string file = write_setfl(8.0);
+  const std::string cmds = "units metal\npair_style eam/alloy\npair_coeff * * " + file + " A B\n";
+  compare(cmds, fcc(3, 3, 3, 3.6, 0.03, 2, 45));
+  compare(cmds, cluster(fcc(4, 4, 4, 3.6, 0.03, 2, 46), 6.0));
+  // and a table that covers the densities
+  const std::string cmds2 =
+      "units metal\npair_style eam/alloy\npair_coeff * * " + write_setfl(60.0) + " B A\n";
+  compare(cmds2, fcc(3, 3, 3, 3.6, 0.03, 2, 47));
 }
