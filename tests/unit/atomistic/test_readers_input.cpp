@@ -437,3 +437,14 @@ TEST_F(Files, ReadAtomsPicksTheKindAndFrame) {
   expect_error([&] { (void)read_atoms(p, 1); }, p, 0, "a data file holds one configuration");
 }
 }  // namespace
+
+namespace {
+TEST_F(Files, FrameWithMoreAtomLinesThanDeclared) {
+  std::string t = kOrthoDump;
+  t += "4 1 1 1 1 Ni 0 0\n";  // a 4th atom line in a frame that declares 3 (line 17)
+  t += frame2();
+  const auto p = write("long.dump", t);
+  DumpReader r(p);
+  expect_error([&] { (void)r.nframes(); }, p, 17, "expected the start of a frame");
+}
+}  // namespace
