@@ -616,4 +616,15 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
           "states for many-body fallback styles are not available yet");
 }
 
+FamilyOptions family_options(const Potential& potential, const PotentialSpec& spec,
+                             const std::vector<Bond>* bonds) {
+  FamilyOptions o;
+  o.cutoff = potential.cutoff();
+  if (bonds && !bonds->empty()) {
+    o.molecular_bonds = bonds;
+    o.special_lj = spec.special_lj;
+  }
+  return o;
+}
+
 }  // namespace pdcg::atomistic

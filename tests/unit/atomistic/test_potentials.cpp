@@ -32,10 +32,9 @@ void compare(const std::string& commands, const Atoms& atoms, double family_marg
   const PotentialSpec spec =
       read_potential_commands_from_string(commands, "test-potential", ntypes);
   const auto pot = make_potential(spec);
-  const bool bonded = !atoms.bonds.empty();
+  const FamilyOptions opt = family_options(*pot, spec, &atoms.bonds);
   const auto pd =
-      pdcg::test::pd_evaluate(*pot, atoms, family_margin, bonded ? &atoms.bonds : nullptr,
-                              bonded ? spec.special_lj : std::array<double, 3>{1, 1, 1});
+      pdcg::test::pd_evaluate(*pot, atoms, family_margin, opt.molecular_bonds, opt.special_lj);
 #if PDCG_WITH_LAMMPS
   const LammpsEngine engine(spec);
   const LammpsResult ref = engine.evaluate(atoms);
