@@ -137,7 +137,11 @@ const std::set<std::string, std::less<>> kNativeBond{"harmonic", "fene", "zero"}
 
 /// Pair styles whose pair_coeff starts with `* * FILE` or `I J FILE` (tabulated/many-body).
 bool style_takes_file(std::string_view style) {
-  static const std::set<std::string, std::less<>> no_file{"lj/cut",
+  // styles whose first non-numeric coefficient is not a file (element or model names)
+  static const std::set<std::string, std::less<>> no_file{"kim",
+                                                          "python",
+                                                          "mliap",
+                                                          "lj/cut",
                                                           "morse",
                                                           "zero",
                                                           "lj/cut/coul/cut",
