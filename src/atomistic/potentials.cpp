@@ -282,7 +282,7 @@ TypeTable<Zero::Coeff> build_zero(const PotentialSpec& spec, double& cutmax) {
   cutmax = 0.0;
   for (int i = 1; i <= n; ++i)
     for (int j = i; j <= n; ++j) {
-      if (!cut.is_set(i, j)) cut(i, j) = mix_distance(Mix::geometric, cut(i, i), cut(j, j));
+      if (!cut.is_set(i, j)) cut(i, j) = mix_distance(pair_modify(spec).mix, cut(i, i), cut(j, j));
       out(i, j).cutsq = out(j, i).cutsq = cut(i, j) * cut(i, j);
       cutmax = std::max(cutmax, cut(i, j));
     }
