@@ -137,7 +137,11 @@ const std::set<std::string, std::less<>> kNativeBond{"harmonic", "fene", "zero"}
 
 /// Pair styles whose pair_coeff starts with `* * FILE` or `I J FILE` (tabulated/many-body).
 bool style_takes_file(std::string_view style) {
-  static const std::set<std::string, std::less<>> no_file{"lj/cut",
+  // styles whose first non-numeric coefficient is not a file (element or model names)
+  static const std::set<std::string, std::less<>> no_file{"kim",
+                                                          "python",
+                                                          "mliap",
+                                                          "lj/cut",
                                                           "morse",
                                                           "zero",
                                                           "lj/cut/coul/cut",
@@ -256,18 +260,18 @@ void check_atom_types(PotentialSpec& spec, int ntypes) {
           .value(c.i)
           .expected("a bond type or range");
   }
-  if (static_cast<int>(spec.type_mass.size()) > ntypes + 1) {
-    for (int t = ntypes + 1; t < static_cast<int>(spec.type_mass.size()); ++t)
-      if (!std::isnan(spec.type_mass[static_cast<std::size_t>(t)]))
-        throw InputError("mass given for an unknown atom type")
-            .source(spec.source)
-            .key("mass")
-            .value(std::to_string(t))
-            .expected("atom types 1.." + std::to_string(ntypes));
+  // masses: replay the mass commands (in order, later ones win) against the type count
+  std::vector<double> mass(static_cast<std::size_t>(ntypes + 1),
+                           std::numeric_limits<double>::quiet_NaN());
+  for (const std::string& line : spec.lines) {
+    const auto w = words_of(line);
+    if (w.size() < 3 || w[0] != "mass") continue;
+    parse_type_range(w[1], ntypes, lo, hi, spec.source, 0, line);
+    const double m = std::strtod(w[2].c_str(), nullptr);  // validated when read
+    for (int t = lo; t <= hi; ++t) mass[static_cast<std::size_t>(t)] = m;
   }
   spec.ntypes = ntypes;
-  spec.type_mass.resize(static_cast<std::size_t>(ntypes + 1),
-                        std::numeric_limits<double>::quiet_NaN());
+  spec.type_mass = std::move(mass);
 }
 
 void require_supported_styles(const PotentialSpec& spec, bool lammps_enabled) {
@@ -538,8 +542,13 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
   spec.type_mass.assign(static_cast<std::size_t>(std::max(nt, 0) + 1),
                         std::numeric_limits<double>::quiet_NaN());
   for (const auto& m : masses) {
+    // a wildcard needs the type count: without it, check_atom_types applies it later
+    if (nt <= 0 && m.range.find('*') != std::string::npos) continue;
     int lo, hi;
     parse_type_range(m.range, nt, lo, hi, spec.source, m.line, "mass");
+    if (hi >= static_cast<int>(spec.type_mass.size()))
+      spec.type_mass.resize(static_cast<std::size_t>(hi + 1),
+                            std::numeric_limits<double>::quiet_NaN());
     for (int t = lo; t <= hi; ++t) spec.type_mass[static_cast<std::size_t>(t)] = m.value;
   }
   if (nt > 0) check_atom_types(spec, nt);

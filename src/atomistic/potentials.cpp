@@ -282,7 +282,7 @@ TypeTable<Zero::Coeff> build_zero(const PotentialSpec& spec, double& cutmax) {
   cutmax = 0.0;
   for (int i = 1; i <= n; ++i)
     for (int j = i; j <= n; ++j) {
-      if (!cut.is_set(i, j)) cut(i, j) = mix_distance(Mix::geometric, cut(i, i), cut(j, j));
+      if (!cut.is_set(i, j)) cut(i, j) = mix_distance(pair_modify(spec).mix, cut(i, i), cut(j, j));
       out(i, j).cutsq = out(j, i).cutsq = cut(i, j) * cut(i, j);
       cutmax = std::max(cutmax, cut(i, j));
     }
@@ -434,6 +434,16 @@ std::string style_name(const PotentialSpec& spec) {
 // ---------------------------------------------------------------------------------------
 // Family loops
 
+/// Atom types outside 1..ntypes cannot be evaluated (and must not index the tables): the
+/// family gets NaN energy and force states, which the callers' finiteness checks report.
+bool types_out_of_range(const FamilyState& f, int ntypes, double* t) {
+  bool bad = f.type < 1 || f.type > ntypes;
+  for (std::int64_t b = 0; b < f.size && !bad; ++b)
+    bad = f.neighbor_type[b] < 1 || f.neighbor_type[b] > ntypes;
+  if (bad) std::fill(t, t + 3 * f.size, kNaN);
+  return bad;
+}
+
 template <class Law>
 class PairModel final : public Potential {
  public:
@@ -450,6 +460,7 @@ class PairModel final : public Potential {
   bool pairwise() const override { return true; }
 
   double force_state(const FamilyState& f, double* t) const override {
+    if (types_out_of_range(f, ntypes_, t)) return kNaN;
     double psi = 0.0;
     const int n1 = ntypes_ + 1;
     const auto* row = table_.v.data() + f.type * n1;
@@ -490,6 +501,7 @@ class EamModel final : public Potential {
   std::vector<double> type_masses() const override { return e_.type_mass; }
 
   double force_state(const FamilyState& f, double* t) const override {
+    if (types_out_of_range(f, e_.ntypes, t)) return kNaN;
     const int n1 = e_.ntypes + 1;
     const int kt = f.type;
     // pass 1: host density ρ̄_k = Σ_j ρ_{type(j)→type(k)}(r_kj)
@@ -614,6 +626,17 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
       .fix(
           "evaluate per-atom energies and forces through embedded LAMMPS (LammpsEngine); PD force "
           "states for many-body fallback styles are not available yet");
+}
+
+FamilyOptions family_options(const Potential& potential, const PotentialSpec& spec,
+                             const std::vector<Bond>* bonds) {
+  FamilyOptions o;
+  o.cutoff = potential.cutoff();
+  if (bonds && !bonds->empty()) {
+    o.molecular_bonds = bonds;
+    o.special_lj = spec.special_lj;
+  }
+  return o;
 }
 
 }  // namespace pdcg::atomistic

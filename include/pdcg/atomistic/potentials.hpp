@@ -29,6 +29,7 @@
 
 #include <memory>
 
+#include "pdcg/atomistic/families.hpp"
 #include "pdcg/atomistic/potential.hpp"
 
 namespace pdcg::atomistic {
@@ -39,5 +40,11 @@ namespace pdcg::atomistic {
 /// have no native implementation: those are evaluated by LammpsEngine (per-atom energies and
 /// forces only; force states for them are not available yet).
 std::unique_ptr<Potential> make_potential(const PotentialSpec& spec);
+
+/// Family options matching LAMMPS for `potential` on a configuration with molecular `bonds`
+/// (nullptr or empty: none): cutoff = potential.cutoff(); with bonds, special_lj from the spec
+/// (LAMMPS's default 0 0 0 applies to bonded atoms even without a special_bonds command).
+FamilyOptions family_options(const Potential& potential, const PotentialSpec& spec,
+                             const std::vector<Bond>* bonds = nullptr);
 
 }  // namespace pdcg::atomistic

@@ -53,7 +53,8 @@ Atoms random_atoms(std::size_t n, const Box& box, unsigned seed) {
 }
 
 /// Brute force: U and forces by summing over all images within ±4 cells.
-void brute_force(const Atoms& a, double c, double r0, double rc, double& U, std::vector<double>& f) {
+void brute_force(const Atoms& a, double c, double r0, double rc, double& U,
+                 std::vector<double>& f) {
   const Eigen::Matrix3d H = a.box.h();
   const std::size_t n = a.size();
   U = 0;
@@ -68,8 +69,10 @@ void brute_force(const Atoms& a, double c, double r0, double rc, double& U, std:
             if (!a.box.periodic[1] && q) continue;
             if (!a.box.periodic[2] && s) continue;
             if (i == j && p == 0 && q == 0 && s == 0) continue;
-            const Eigen::Vector3d d = Eigen::Vector3d(a.x[3 * j] - a.x[3 * i], a.x[3 * j + 1] - a.x[3 * i + 1],
-                                                      a.x[3 * j + 2] - a.x[3 * i + 2]) + H * Eigen::Vector3d(p, q, s);
+            const Eigen::Vector3d d =
+                Eigen::Vector3d(a.x[3 * j] - a.x[3 * i], a.x[3 * j + 1] - a.x[3 * i + 1],
+                                a.x[3 * j + 2] - a.x[3 * i + 2]) +
+                H * Eigen::Vector3d(p, q, s);
             const double r = d.norm();
             if (r >= rc) continue;
             U += 0.25 * c * (r - r0) * (r - r0);  // each pair counted twice
@@ -87,7 +90,8 @@ void check(const Atoms& atoms, double rc) {
     ASSERT_EQ(static_cast<std::size_t>(fam.reverse[r]), b);
     for (int k = 0; k < 3; ++k) ASSERT_NEAR(fam.xi[3 * b + k], -fam.xi[3 * r + k], 1e-12);
   }
-  std::vector<double> Y(3 * fam.bonds()), t(3 * fam.bonds()), psi(atoms.size()), f(3 * atoms.size());
+  std::vector<double> Y(3 * fam.bonds()), t(3 * fam.bonds()), psi(atoms.size()),
+      f(3 * atoms.size());
   deformed_bonds(fam, atoms.x, fam.h, Y);
   EXPECT_TRUE(pdcg::test::all_close(Y, fam.xi, {1e-12, 0}));  // identity deformation: Y = ξ
   const double U = force_states(pot, fam, atoms.type, Y, psi, t);

@@ -100,6 +100,7 @@ Reference run_lmp(const Atoms& at, const std::string& potential_lines, const std
     ++read;
   }
   EXPECT_EQ(read, at.size());
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);  // kept for diagnosis otherwise
   return r;
 }
 

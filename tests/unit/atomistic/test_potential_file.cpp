@@ -193,3 +193,19 @@ TEST(PotentialFile, CommentsQuotesAndContinuation) {
   EXPECT_EQ(s.pair_coeff[0].line_number, 2);
   EXPECT_EQ(s.pair_style_args, (std::vector<std::string>{"2.5"}));
 }
+
+TEST(PotentialFile, WildcardMassesWaitForTheTypeCount) {
+  PotentialSpec s =
+      read_potential_commands_from_string("mass * 2.0\nmass 2 3.0\npair_style zero 2\n", "m.in");
+  EXPECT_EQ(s.ntypes, 2);  // from the explicit type
+  EXPECT_EQ(s.type_mass[1], 2.0);
+  EXPECT_EQ(s.type_mass[2], 3.0);
+  s = read_potential_commands_from_string("mass * 2.0\npair_style zero 2\npair_coeff * *\n",
+                                          "m.in");
+  EXPECT_EQ(s.ntypes, 0);  // unknown until the configuration is read
+  check_atom_types(s, 3);
+  ASSERT_EQ(s.type_mass.size(), 4u);
+  EXPECT_EQ(s.type_mass[3], 2.0);
+  PotentialSpec t = read_potential_commands_from_string("mass 3 1.0\n", "m.in");
+  EXPECT_THROW(check_atom_types(t, 2), pdcg::InputError);
+}

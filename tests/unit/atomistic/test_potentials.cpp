@@ -32,10 +32,9 @@ void compare(const std::string& commands, const Atoms& atoms, double family_marg
   const PotentialSpec spec =
       read_potential_commands_from_string(commands, "test-potential", ntypes);
   const auto pot = make_potential(spec);
-  const bool bonded = !atoms.bonds.empty();
+  const FamilyOptions opt = family_options(*pot, spec, &atoms.bonds);
   const auto pd =
-      pdcg::test::pd_evaluate(*pot, atoms, family_margin, bonded ? &atoms.bonds : nullptr,
-                              bonded ? spec.special_lj : std::array<double, 3>{1, 1, 1});
+      pdcg::test::pd_evaluate(*pot, atoms, family_margin, opt.molecular_bonds, opt.special_lj);
 #if PDCG_WITH_LAMMPS
   const LammpsEngine engine(spec);
   const LammpsResult ref = engine.evaluate(atoms);
@@ -338,4 +337,22 @@ TEST(PotentialsEAM, UserSetflByPathBeyondRhoMax) {
   const std::string cmds2 =
       "units metal\npair_style eam/alloy\npair_coeff * * " + write_setfl(60.0) + " B A\n";
   compare(cmds2, fcc(3, 3, 3, 3.6, 0.03, 2, 47));
+}
+
+TEST(Potentials, AtomTypeBeyondThePotentialGivesNaNNotGarbage) {
+  for (const char* cmds :
+       {"pair_style lj/cut 2.5\npair_coeff 1 1 1 1\n",
+        "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n"}) {
+    const auto pot = make_potential(read_potential_commands_from_string(cmds, "x", 1));
+    const int types[2] = {1, 2};
+    const double bond[6] = {1.1, 0, 0, 0, 1.1, 0};
+    double t[6];
+    FamilyState f;
+    f.type = 1;
+    f.size = 2;
+    f.neighbor_type = types;
+    f.bond = bond;
+    EXPECT_TRUE(std::isnan(pot->force_state(f, t)));
+    EXPECT_TRUE(std::isnan(t[0]));
+  }
 }
