@@ -180,6 +180,8 @@ Evaluator::Evaluator(const Body& body) : body_(body) {
   t_.resize(3 * nb);
   psi_.resize(n);
   f_.resize(3 * n);
+  ntype_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) ntype_[b] = body.type[static_cast<std::size_t>(body.families.neighbor[b])];
   scratch_ = std::make_unique<detail::Scratch>();
 }
 
@@ -197,7 +199,25 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
   if (body_.statistics) {
     e.energy = detail::statistical_force_states(body_, *body_.statistics, y, h_y, G, bonds_, psi_, t_, *scratch_);
   } else {
-    e.energy = atomistic::force_states(*body_.potential, fam, body_.type, bonds_, psi_, t_);
+    // ψ_k and t_b per atom (atomistic::force_states without its per-call type buffer: the
+    // partner types are cached once in the constructor, so this loop allocates nothing)
+    const auto& pot = *body_.potential;
+    double total = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : total)
+    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body_.size()); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      const auto b0 = static_cast<std::size_t>(fam.offset[i]);
+      atomistic::FamilyState f;
+      f.type = body_.type[i];
+      f.size = fam.offset[i + 1] - fam.offset[i];
+      f.neighbor_type = ntype_.data() + b0;
+      f.bond = bonds_.data() + 3 * b0;
+      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      psi_[i] = pot.force_state(f, t_.data() + 3 * b0);
+      total += psi_[i];
+    }
+    e.energy = total;
   }
   atomistic::pd_forces(fam, t_, f_);
   e.psi = psi_;

@@ -183,6 +183,7 @@ class Evaluator {
   Evaluation run(std::span<const double> y, const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G);
   const Body& body_;
   std::vector<double> y_, bonds_, t_, psi_, f_;
+  std::vector<int> ntype_;  ///< partner type per bond
   std::unique_ptr<detail::Scratch> scratch_;  ///< statistical work arrays
 };
 
