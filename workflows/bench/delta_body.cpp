@@ -40,7 +40,8 @@ int main(int argc, char** argv) {
         for (const auto& b : basis) {
           at.id.push_back(++id);
           at.type.push_back(1);
-          at.x.insert(at.x.end(), {(i + b[0] + 0.1) * a, (j + b[1] + 0.1) * a, (k + b[2] + 0.1) * a});
+          at.x.insert(at.x.end(),
+                      {(i + b[0] + 0.1) * a, (j + b[1] + 0.1) * a, (k + b[2] + 0.1) * a});
         }
   const auto spec = atomistic::read_potential_commands_from_string(
       "units lj\nmass 1 1.0\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n", "bench", 1);
@@ -55,10 +56,15 @@ int main(int argc, char** argv) {
   const auto e = ev.reference();
   const double t3 = now();
   const double N = static_cast<double>(b.size());
-  std::printf("atoms %zu, bonds %zu (%.1f per atom)\n", b.size(), b.families.bonds(), b.families.bonds() / N);
-  std::printf("build delta body: %.2f s (%.2f us/atom); peak RSS %.0f MB before, %.0f MB after: %.0f bytes/atom\n",
-              t1 - t0, 1e6 * (t1 - t0) / N, rss0, rss1, (rss1 - rss0) * 1048576.0 / N);
-  std::printf("evaluator setup %.2f s; one evaluation (psi, t, f): %.2f s, energy/atom %.6f; peak RSS %.0f MB\n",
-              t2 - t1, t3 - t2, e.energy / N, peak_rss_mb());
+  std::printf("atoms %zu, bonds %zu (%.1f per atom)\n", b.size(), b.families.bonds(),
+              b.families.bonds() / N);
+  std::printf(
+      "build delta body: %.2f s (%.2f us/atom); peak RSS %.0f MB before, %.0f MB after: %.0f "
+      "bytes/atom\n",
+      t1 - t0, 1e6 * (t1 - t0) / N, rss0, rss1, (rss1 - rss0) * 1048576.0 / N);
+  std::printf(
+      "evaluator setup %.2f s; one evaluation (psi, t, f): %.2f s, energy/atom %.6f; peak RSS %.0f "
+      "MB\n",
+      t2 - t1, t3 - t2, e.energy / N, peak_rss_mb());
   return 0;
 }

@@ -51,8 +51,10 @@ TEST(Homogenise, MassAndEnergyConservedForEveryKernelOnRotatedGrids) {
       const auto& hom = *h.homogenisation;
       // per-atom normalisation
       std::vector<double> wsum(b.size(), 0.0);
-      for (std::size_t c = 0; c < hom.atom.size(); ++c) wsum[static_cast<std::size_t>(hom.atom[c])] += hom.weight[c];
-      EXPECT_TRUE(test::all_close(wsum, std::vector<double>(b.size(), 1.0), {1e-14, 0}));  // round-off of a short sum
+      for (std::size_t c = 0; c < hom.atom.size(); ++c)
+        wsum[static_cast<std::size_t>(hom.atom[c])] += hom.weight[c];
+      EXPECT_TRUE(test::all_close(wsum, std::vector<double>(b.size(), 1.0),
+                                  {1e-14, 0}));  // round-off of a short sum
       double m = 0;
       for (double v : hom.mass) m += v;
       EXPECT_TRUE(test::close(m, total_mass(b), {0, 1e-12})) << name;  // round-off
@@ -64,7 +66,8 @@ TEST(Homogenise, MassAndEnergyConservedForEveryKernelOnRotatedGrids) {
         (void)evh.homogeneous(F);
         double Ubar = 0;
         for (double e : evh.point_energies()) Ubar += e;
-        EXPECT_TRUE(test::close(Ubar, U, {0, 1e-12})) << name << " periodic " << periodic;  // round-off
+        EXPECT_TRUE(test::close(Ubar, U, {0, 1e-12}))
+            << name << " periodic " << periodic;  // round-off
       }
     }
   }
@@ -118,7 +121,8 @@ TEST(Homogenise, ChainDensityAndEnergyCarryTheSameFactor) {
   }
   c.type_mass = {NAN, 2.0, 2.0};
   auto pot = std::make_shared<test::Springs>(2.0, 0.9, 1.5);
-  const Body b = make_delta_body(c, pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
+  const Body b =
+      make_delta_body(c, pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
   GridOptions g;
   g.spacing = 0.37;
   const Body h = homogenise_on_grid(b, make_kernel("cubic-bspline", 2.0), g);
@@ -213,5 +217,6 @@ TEST(Rescale, LatticeBodyOnCoarseGrid) {
   const Body h = homogenise_on_grid(r, make_kernel("wendland-c2", 1.7 * eps * hsp), g);
   ASSERT_EQ(h.homogenisation->size(), r.size());
   for (std::size_t p = 0; p < h.homogenisation->size(); ++p)
-    EXPECT_NEAR(h.homogenisation->mass[p] / h.homogenisation->volume[p], 1.0 / std::pow(hsp, 3), 1e-12);
+    EXPECT_NEAR(h.homogenisation->mass[p] / h.homogenisation->volume[p], 1.0 / std::pow(hsp, 3),
+                1e-12);
 }
