@@ -129,6 +129,7 @@ compute pe all pe/atom
 dump d all custom 1 dump.tri id type x y z fx fy fz c_pe
 dump_modify d format float %.17g
 run 0
+write_data data.tri
 displace_atoms all random 0.02 0.02 0.02 99
 run 1
 )");
@@ -179,6 +180,12 @@ TEST_F(BodyCli, ForcesEqualLammpsAtReferenceAndDeformedFrames) {
           p("f1.csv"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_LT(compare_forces(read_csv(dir / "f1.csv"), ref[1]), 1e-9);
+  // the same configuration from a data file (wrapped positions + image flags, Masses section)
+  r = cli("atoms2pd --input " + p("data.tri") + " --potential " + p("pot.lj") + " -o " + p("bd.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = cli("forces " + p("bd.h5") + " -o " + p("fd.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_LT(compare_forces(read_csv(dir / "fd.csv"), ref[0]), 1e-9);
 }
 
 TEST_F(BodyCli, EnergyUnderHomogeneousDeformationEqualsLammps) {
@@ -257,6 +264,11 @@ TEST_F(BodyCli, HomogenizeRescaleStatisticalAndBadInput) {
           p("x.h5"));
   EXPECT_EQ(r.code, 2) << r.out;  // 2 elements mapped, the dump has 1 type
   EXPECT_NE(r.out.find("AlCu.eam.alloy"), std::string::npos) << r.out;
+  write("metal.dump", "ITEM: UNITS\nmetal\nITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n"
+                     "0 5\n0 5\n0 5\nITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 1 1 1\n");
+  r = cli("atoms2pd --input " + p("metal.dump") + " --potential " + p("pot.lj") + " -o " + p("x.h5"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("different units"), std::string::npos) << r.out;
   r = cli("rescale " + p("b.h5") + " --factor 0 -o " + p("x.h5"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("rescaling factor must be positive"), std::string::npos) << r.out;
