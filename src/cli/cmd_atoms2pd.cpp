@@ -123,6 +123,19 @@ int run(const Options& o) {
             .value(pot->style())
             .fix("use --samples N for many-body potentials");
     }
+    if (frames.size() > 1) {
+      // families of the mean configuration (not of the first frame): rebuild the delta body at
+      // the means the statistics moved the points to
+      atomistic::Atoms mean = ref;
+      atomistic::sort_by_id(mean, o.input);
+      mean.x = b.x;
+      auto files = std::move(b.potential_files);
+      auto prov = std::move(b.provenance);
+      b = body::make_delta_body(mean, pot, spec, opt);
+      b.potential_files = std::move(files);
+      b.provenance = std::move(prov);
+      b.provenance.push_back(fmt::format("families rebuilt at the mean positions of {} frames", frames.size()));
+    }
     body::make_statistical(b, std::move(s));
   }
   body::write_body(b, o.output);
