@@ -134,7 +134,8 @@ int run(const Options& o) {
       b = body::make_delta_body(mean, pot, spec, opt);
       b.potential_files = std::move(files);
       b.provenance = std::move(prov);
-      b.provenance.push_back(fmt::format("families rebuilt at the mean positions of {} frames", frames.size()));
+      b.provenance.push_back(
+          fmt::format("families rebuilt at the mean positions of {} frames", frames.size()));
     }
     body::make_statistical(b, std::move(s));
   }

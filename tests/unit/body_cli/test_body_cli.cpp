@@ -181,7 +181,8 @@ TEST_F(BodyCli, ForcesEqualLammpsAtReferenceAndDeformedFrames) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_LT(compare_forces(read_csv(dir / "f1.csv"), ref[1]), 1e-9);
   // the same configuration from a data file (wrapped positions + image flags, Masses section)
-  r = cli("atoms2pd --input " + p("data.tri") + " --potential " + p("pot.lj") + " -o " + p("bd.h5"));
+  r = cli("atoms2pd --input " + p("data.tri") + " --potential " + p("pot.lj") + " -o " +
+          p("bd.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
   r = cli("forces " + p("bd.h5") + " -o " + p("fd.csv"));
   ASSERT_EQ(r.code, 0) << r.out;
@@ -225,6 +226,11 @@ TEST_F(BodyCli, HomogenizeRescaleStatisticalAndBadInput) {
   ASSERT_EQ(r.code, 0) << r.out;
   r = cli("rescale " + p("h.h5") + " --factor 3.5 -o " + p("r.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
+  r = cli("info " + p("r.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("rescaled body, dimension 3, 256 points"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("horizon 8.75, epsilon 3.5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("kernel wendland-c2"), std::string::npos) << r.out;
   const std::string F = " --F \"1.1 0.05 0 0 0.95 0.02 0 0 1.03\" --json";
   double w0 = 0, w1 = 0, e;
   r = cli("energy " + p("b.h5") + F);
@@ -264,9 +270,12 @@ TEST_F(BodyCli, HomogenizeRescaleStatisticalAndBadInput) {
           p("x.h5"));
   EXPECT_EQ(r.code, 2) << r.out;  // 2 elements mapped, the dump has 1 type
   EXPECT_NE(r.out.find("AlCu.eam.alloy"), std::string::npos) << r.out;
-  write("metal.dump", "ITEM: UNITS\nmetal\nITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n"
-                     "0 5\n0 5\n0 5\nITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 1 1 1\n");
-  r = cli("atoms2pd --input " + p("metal.dump") + " --potential " + p("pot.lj") + " -o " + p("x.h5"));
+  write(
+      "metal.dump",
+      "ITEM: UNITS\nmetal\nITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n"
+      "0 5\n0 5\n0 5\nITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 1 1 1\n");
+  r = cli("atoms2pd --input " + p("metal.dump") + " --potential " + p("pot.lj") + " -o " +
+          p("x.h5"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("different units"), std::string::npos) << r.out;
   r = cli("rescale " + p("b.h5") + " --factor 0 -o " + p("x.h5"));
