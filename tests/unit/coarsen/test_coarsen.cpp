@@ -8,6 +8,7 @@
 #include <random>
 
 #include "../body/toy_potentials.hpp"
+#include "pdcg/body/statistics.hpp"
 #include "pdcg/coarsen/homogenise.hpp"
 #include "pdcg/coarsen/rescale.hpp"
 #include "pdcg/core/error.hpp"
@@ -219,4 +220,29 @@ TEST(Rescale, LatticeBodyOnCoarseGrid) {
   for (std::size_t p = 0; p < h.homogenisation->size(); ++p)
     EXPECT_NEAR(h.homogenisation->mass[p] / h.homogenisation->volume[p], 1.0 / std::pow(hsp, 3),
                 1e-12);
+}
+
+TEST(Rescale, StatisticalAndHomogenisedLayersKeepEnergyDensity) {
+  // widths scale with ε (covariances ε²), so the expected energy density is unchanged too;
+  // and homogenised point energies add up to the rescaled total.
+  auto pot = std::make_shared<test::Springs>(2.0, 0.95, 1.4);
+  Body b = make_delta_body(test::cubic_lattice(4, 4, 4, 1.0, 0.05, true), pot, spec());
+  Statistics s = isotropic_gaussian(b, 0.05);
+  s.order = 4;
+  make_statistical(b, s);
+  const Body h = homogenise_on_grid(b, make_kernel("cubic-bspline", 2.5),
+                                    GridOptions{0.9, Eigen::Matrix3d::Identity(), {0.2, 0.1, 0.3}});
+  Evaluator ev(b);
+  std::mt19937 rng(41);
+  for (const double eps : {2.0, 3.5, 8.0}) {
+    const Body r = rescale(h, eps);
+    Evaluator evr(r);
+    const Eigen::Matrix3d F = test::random_deformation(rng, 0.8, 1.25);
+    const double W = energy_density(b, ev.homogeneous(F));
+    const Evaluation er = evr.homogeneous(F);
+    EXPECT_TRUE(test::close(energy_density(r, er), W, {0, 1e-12})) << "eps " << eps;  // round-off
+    double Ep = 0;
+    for (double e : evr.point_energies()) Ep += e;
+    EXPECT_TRUE(test::close(Ep, er.energy, {0, 1e-12}));  // per-atom normalised weights
+  }
 }
