@@ -13,7 +13,8 @@ struct Options {
 };
 
 pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("run", "Run a continuum scene (bond-associated correspondence, Newton)");
+  auto* sub =
+      app.add_subcommand("run", "Run a continuum scene (bond-associated correspondence, Newton)");
   auto opts = std::make_shared<Options>();
   sub->add_option("scene", opts->scene, "Scene file (YAML)")->required();
   sub->add_option("-o,--output", opts->out, "Output directory (overrides output.directory)");

@@ -24,10 +24,12 @@ class Parser {
 
  private:
   [[noreturn]] void fail(const std::string& what) {
-    throw InputError("cannot parse the expression: " + what + " at position " + std::to_string(p_ + 1))
+    throw InputError("cannot parse the expression: " + what + " at position " +
+                     std::to_string(p_ + 1))
         .key(where_)
         .value(s_)
-        .expected("a number or an expression in t, e.g. \"0.5*t\" (+ - * / ^, sin cos exp log sqrt abs)");
+        .expected(
+            "a number or an expression in t, e.g. \"0.5*t\" (+ - * / ^, sin cos exp log sqrt abs)");
   }
   void skip() {
     while (p_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[p_]))) ++p_;
@@ -106,14 +108,22 @@ class Parser {
     if (name == "t") return [](double t) { return t; };
     if (name == "pi") return [](double) { return M_PI; };
     double (*f)(double) = nullptr;
-    if (name == "sin") f = [](double x) { return std::sin(x); };
-    else if (name == "cos") f = [](double x) { return std::cos(x); };
-    else if (name == "tan") f = [](double x) { return std::tan(x); };
-    else if (name == "exp") f = [](double x) { return std::exp(x); };
-    else if (name == "log") f = [](double x) { return std::log(x); };
-    else if (name == "sqrt") f = [](double x) { return std::sqrt(x); };
-    else if (name == "abs") f = [](double x) { return std::abs(x); };
-    if (!f) fail(name.empty() ? "expected a number, t or a function" : "unknown name '" + name + "'");
+    if (name == "sin")
+      f = [](double x) { return std::sin(x); };
+    else if (name == "cos")
+      f = [](double x) { return std::cos(x); };
+    else if (name == "tan")
+      f = [](double x) { return std::tan(x); };
+    else if (name == "exp")
+      f = [](double x) { return std::exp(x); };
+    else if (name == "log")
+      f = [](double x) { return std::log(x); };
+    else if (name == "sqrt")
+      f = [](double x) { return std::sqrt(x); };
+    else if (name == "abs")
+      f = [](double x) { return std::abs(x); };
+    if (!f)
+      fail(name.empty() ? "expected a number, t or a function" : "unknown name '" + name + "'");
     if (!eat('(')) fail("expected '(' after " + name);
     Fn a = expr();
     if (!eat(')')) fail("missing ')'");

@@ -1,8 +1,8 @@
 #include "pdcg/solver/discretization.hpp"
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -67,14 +67,23 @@ double pddo_stencil(int dim, const std::vector<Vec3>& x, const std::vector<doubl
 
 Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOptions& opt) {
   if (spec.dimension != 2 && spec.dimension != 3)
-    throw InputError("unsupported dimension").key("dimension").value(std::to_string(spec.dimension)).expected("2 or 3");
+    throw InputError("unsupported dimension")
+        .key("dimension")
+        .value(std::to_string(spec.dimension))
+        .expected("2 or 3");
   if (!(spec.spacing > 0))
-    throw InputError("grid spacing must be positive").key("geometry.spacing").value(fmt::format("{}", spec.spacing)).expected("a positive length");
+    throw InputError("grid spacing must be positive")
+        .key("geometry.spacing")
+        .value(fmt::format("{}", spec.spacing))
+        .expected("a positive length");
   const int d = spec.dimension;
   std::array<long, 3> n{1, 1, 1};
   for (int a = 0; a < d; ++a) {
     if (!(spec.size(a) > 0))
-      throw InputError("body size must be positive").key("geometry.size").value(fmt::format("{}", spec.size(a))).expected("positive lengths");
+      throw InputError("body size must be positive")
+          .key("geometry.size")
+          .value(fmt::format("{}", spec.size(a)))
+          .expected("positive lengths");
     n[a] = std::lround(spec.size(a) / spec.spacing);
     if (n[a] < 1 || std::abs(n[a] * spec.spacing - spec.size(a)) > 1e-6 * spec.size(a))
       throw InputError("body size is not a whole number of spacings")
@@ -103,7 +112,9 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
         if (inside(p)) x.push_back(p);
       }
   if (x.empty())
-    throw InputError("the geometry holds no grid point").key("geometry").fix("check size, spacing and holes");
+    throw InputError("the geometry holds no grid point")
+        .key("geometry")
+        .fix("check size, spacing and holes");
   const double V = std::pow(dx, d), A = std::pow(dx, d - 1);
   std::vector<double> vol(x.size(), V);
   std::vector<Vec3> surf(x.size(), Vec3::Zero());
@@ -132,7 +143,8 @@ Discretization Discretization::from_points(int dimension, std::vector<Vec3> x,
     throw InputError("horizon smaller than the grid spacing")
         .key("horizon")
         .value(fmt::format("{}", D.delta_))
-        .expected(fmt::format("a horizon of at least the spacing {} (typically 3.015 spacings)", spacing))
+        .expected(
+            fmt::format("a horizon of at least the spacing {} (typically 3.015 spacings)", spacing))
         .fix("use horizon: {factor: 3.015}");
   D.x_ = std::move(x);
   D.vol_ = std::move(volume);
@@ -152,7 +164,8 @@ void Discretization::build(const DiscretizationOptions& opt) {
     hi = hi.cwiseMax(p);
   }
   std::array<long, 3> nc{1, 1, 1};
-  for (int a = 0; a < d; ++a) nc[a] = std::max<long>(1, static_cast<long>((hi(a) - lo(a)) / delta_) + 1);
+  for (int a = 0; a < d; ++a)
+    nc[a] = std::max<long>(1, static_cast<long>((hi(a) - lo(a)) / delta_) + 1);
   auto cell_of = [&](const Vec3& p, int a) {
     return std::clamp<long>(static_cast<long>((p(a) - lo(a)) / delta_), 0, nc[a] - 1);
   };
@@ -189,7 +202,8 @@ void Discretization::build(const DiscretizationOptions& opt) {
     std::sort(fam[i].begin(), fam[i].end());
   }
   families_.offsets.assign(N + 1, 0);
-  for (std::size_t i = 0; i < N; ++i) families_.offsets[i + 1] = families_.offsets[i] + fam[i].size();
+  for (std::size_t i = 0; i < N; ++i)
+    families_.offsets[i + 1] = families_.offsets[i] + fam[i].size();
   families_.index.resize(families_.offsets[N]);
   for (std::size_t i = 0; i < N; ++i)
     std::copy(fam[i].begin(), fam[i].end(), families_.index.begin() + families_.offsets[i]);
@@ -236,8 +250,7 @@ void Discretization::build(const DiscretizationOptions& opt) {
         "the family of the point at ({:.6g}, {:.6g}, {:.6g}) is too small for a well-posed "
         "first-order PDDO (reciprocal condition {:.3g} of its moment matrix, {} neighbours); "
         "enlarge the horizon or remove isolated points",
-        x_[bad](0), x_[bad](1), x_[bad](2), bad_rc,
-        families_.end(bad) - families_.begin(bad)));
+        x_[bad](0), x_[bad](1), x_[bad](2), bad_rc, families_.end(bad) - families_.begin(bad)));
 
   // ---- BA stencils B_ij = {i, j} ∪ (H_i ∩ H_j) and weights φ̂_ij ----
   std::vector<std::int64_t> bsize(nb);
@@ -262,8 +275,10 @@ void Discretization::build(const DiscretizationOptions& opt) {
       double v = vol_[i] + vol_[j];
       const int *a = hi_b, *b = hj_b;
       while (a != hi_e && b != hj_e) {
-        if (*a < *b) ++a;
-        else if (*b < *a) ++b;
+        if (*a < *b)
+          ++a;
+        else if (*b < *a)
+          ++b;
         else {
           ++cnt;
           v += vol_[*a];
@@ -295,8 +310,10 @@ void Discretization::build(const DiscretizationOptions& opt) {
       const int *a = hi_b, *b = families_.index.data() + families_.begin(j),
                 *b_e = families_.index.data() + families_.end(j);
       while (a != hi_e && b != b_e) {
-        if (*a < *b) ++a;
-        else if (*b < *a) ++b;
+        if (*a < *b)
+          ++a;
+        else if (*b < *a)
+          ++b;
         else {
           m[k++] = *a;
           ++a;
@@ -308,8 +325,8 @@ void Discretization::build(const DiscretizationOptions& opt) {
       std::sort(m, m + k);
       bond_.center[q] = static_cast<int>(i);
       bond_.weight[q] = vol_[i] * phi_hat_[q] * vol_[j];
-      const double rc = pddo_stencil(d, x_, vol_, static_cast<int>(i), m, k, delta_,
-                                     opt.influence, bond_.grad.data() + bond_.offsets[q] * d);
+      const double rc = pddo_stencil(d, x_, vol_, static_cast<int>(i), m, k, delta_, opt.influence,
+                                     bond_.grad.data() + bond_.offsets[q] * d);
       if (!(rc >= opt.min_reciprocal_condition)) report_bad(static_cast<long>(i), rc);
     }
   }

@@ -1,7 +1,6 @@
 #include "pdcg/solver/material.hpp"
 
 #include <Eigen/LU>
-
 #include <cmath>
 #include <limits>
 
@@ -68,9 +67,7 @@ bool NeoHookeanPlaneStrain::evaluate(const Mat3& F, double* psi, Mat3* P, Tangen
   return true;
 }
 
-Mat3 NeoHookeanPlaneStrain::full_deformation_gradient(const Mat3& F) const {
-  return embed(F, 1.0);
-}
+Mat3 NeoHookeanPlaneStrain::full_deformation_gradient(const Mat3& F) const { return embed(F, 1.0); }
 
 double NeoHookeanPlaneStress::thickness_stretch(const Mat3& F) const {
   // P₃₃(λ) = μ J^(−2/3) (λ − I₁/(3λ)) + K/4 (J² − J⁻²)/λ with J = J₂ λ. It is
@@ -84,10 +81,13 @@ double NeoHookeanPlaneStress::thickness_stretch(const Mat3& F) const {
   Mat3 P;
   Tangent A;
   for (int it = 0; it < 100; ++it) {
-    if (!neo_hookean_3d(p_, embed(F, lam), nullptr, &P, &A)) return std::numeric_limits<double>::quiet_NaN();
+    if (!neo_hookean_3d(p_, embed(F, lam), nullptr, &P, &A))
+      return std::numeric_limits<double>::quiet_NaN();
     const double r = P(2, 2), d = A(8, 8);
-    if (r > 0) hi = std::min(hi, lam);
-    else lo = std::max(lo, lam);
+    if (r > 0)
+      hi = std::min(hi, lam);
+    else
+      lo = std::max(lo, lam);
     if (std::abs(r) <= 1e-14 * (p_.shear_modulus + p_.bulk_modulus)) return lam;
     double next = lam - r / d;
     if (!(d > 0) || !(next > lo) || !(next < hi))
@@ -124,9 +124,12 @@ Mat3 NeoHookeanPlaneStress::full_deformation_gradient(const Mat3& F) const {
 
 std::unique_ptr<Material> make_neo_hookean(NeoHookeanParameters p, Kinematics k) {
   switch (k) {
-    case Kinematics::three_d: return std::make_unique<NeoHookean3D>(p);
-    case Kinematics::plane_strain: return std::make_unique<NeoHookeanPlaneStrain>(p);
-    case Kinematics::plane_stress: return std::make_unique<NeoHookeanPlaneStress>(p);
+    case Kinematics::three_d:
+      return std::make_unique<NeoHookean3D>(p);
+    case Kinematics::plane_strain:
+      return std::make_unique<NeoHookeanPlaneStrain>(p);
+    case Kinematics::plane_stress:
+      return std::make_unique<NeoHookeanPlaneStress>(p);
   }
   return nullptr;
 }

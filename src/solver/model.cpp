@@ -14,7 +14,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   if (material_->dimension() != d_)
     throw Error("internal error: material dimension does not match the body");
   energy_ = opt_.correspondence == Correspondence::bond_associated ? &body.bond_stencils()
-                                                                     : &body.point_stencils();
+                                                                   : &body.point_stencils();
   const Stencils& S = *energy_;
   const std::size_t N = body.size();
   // Reverse index point -> (stencil, position).
@@ -71,7 +71,8 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
     a.erase(std::unique(a.begin(), a.end()), a.end());
   }
   adjacency_.offsets.assign(N + 1, 0);
-  for (std::size_t k = 0; k < N; ++k) adjacency_.offsets[k + 1] = adjacency_.offsets[k] + adj[k].size();
+  for (std::size_t k = 0; k < N; ++k)
+    adjacency_.offsets[k + 1] = adjacency_.offsets[k] + adj[k].size();
   adjacency_.index.reserve(adjacency_.offsets[N]);
   for (auto& a : adj) adjacency_.index.insert(adjacency_.index.end(), a.begin(), a.end());
   adj.clear();

@@ -1,11 +1,11 @@
 #include "pdcg/solver/newton.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
-#include <fmt/format.h>
-
 #include <chrono>
 #include <cmath>
 #include <set>
@@ -66,8 +66,9 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
                                    axis[a], axis[a]))
           .key("boundary")
           .expected(fmt::format("at least one displacement set fixing {}", axis[a]))
-          .fix(fmt::format("add e.g. {{name: pin, region: {{point: [...]}}, displacement: {{{}: 0.0}}}}",
-                           axis[a]));
+          .fix(fmt::format(
+              "add e.g. {{name: pin, region: {{point: [...]}}, displacement: {{{}: 0.0}}}}",
+              axis[a]));
   }
   if (constrained_points.size() < 2)
     throw InputError("all displacement constraints act on one point: the body can rotate freely")
@@ -122,8 +123,7 @@ void StaticSolver::external_force(double t, Eigen::VectorXd& fext) const {
   for (std::size_t s = 0; s < tsets_.size(); ++s) {
     const Vec3 tr = tsets_[s].traction(t);
     for (std::size_t i = 0; i < tsets_[s].points.size(); ++i)
-      for (int a = 0; a < d; ++a)
-        fext[d * tsets_[s].points[i] + a] += tr(a) * traction_area_[s][i];
+      for (int a = 0; a < d; ++a) fext[d * tsets_[s].points[i] + a] += tr(a) * traction_area_[s][i];
   }
 }
 
@@ -138,7 +138,6 @@ Vec3 StaticSolver::reaction(std::size_t set) const {
 }
 
 bool StaticSolver::newton(double t_target, StepReport& rep) {
-  const int d = model_->dimension();
   const std::size_t n = model_->dofs();
   const int nf = static_cast<int>(free_dofs_.size());
   Eigen::VectorXd fext, f, du_c = Eigen::VectorXd::Zero(n);
@@ -188,7 +187,8 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       return true;
     }
     // Linear solve.
-    for (std::size_t q = 0; q < red_map_.size(); ++q) Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+    for (std::size_t q = 0; q < red_map_.size(); ++q)
+      Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
     const SparseCol A = Kff_;
     bool ok = true;
     auto& S = *solvers_;
@@ -274,7 +274,8 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     }
     du_c.setZero();
     const double inc = alpha * dx.norm();
-    log::debug("  iteration {}: residual {:.3e}, increment {:.3e}, alpha {}", it, rnorm, inc, alpha);
+    log::debug("  iteration {}: residual {:.3e}, increment {:.3e}, alpha {}", it, rnorm, inc,
+               alpha);
     last_inc = inc;
   }
   return false;
@@ -299,19 +300,22 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
             "(J ≤ 0). Try more load steps, a larger horizon, or check the boundary conditions",
             t_new, opt_.max_cutbacks, fmt::join(rep.residual_history, " ")));
       dt *= 0.5;
-      log::warn("step to t = {:.6g} did not converge ({} iterations, residual {:.3e}): cutting back to dt = {:.4g}",
-                t_new, rep.residual_history.size(),
-                rep.residual_history.empty() ? NAN : rep.residual_history.back(), dt);
+      log::warn(
+          "step to t = {:.6g} did not converge ({} iterations, residual {:.3e}): cutting back to "
+          "dt = {:.4g}",
+          t_new, rep.residual_history.size(),
+          rep.residual_history.empty() ? NAN : rep.residual_history.back(), dt);
       continue;
     }
     t_ = t_new;
     rep.t = t_;
     rep.step = ++step_;
     rep.cutbacks = cutbacks;
-    log::info("step {} t = {:.6g}: {} Newton iterations, residual {:.3e} (history {:.2e}); "
-              "assembly {:.2f} s, linear solve {:.2f} s",
-              rep.step, t_, rep.iterations, rep.residual, fmt::join(rep.residual_history, " "),
-              rep.assembly_seconds, rep.solve_seconds);
+    log::info(
+        "step {} t = {:.6g}: {} Newton iterations, residual {:.3e} (history {:.2e}); "
+        "assembly {:.2f} s, linear solve {:.2f} s",
+        rep.step, t_, rep.iterations, rep.residual, fmt::join(rep.residual_history, " "),
+        rep.assembly_seconds, rep.solve_seconds);
     if (on_step) on_step(rep);
     if (dt < nominal) dt = std::min(nominal, 2 * dt);  // recover after a successful step
   }

@@ -7,7 +7,8 @@
 ///   dimension: 2
 ///   plane: strain          # strain | stress (2D only)
 ///   geometry: {shape: rectangle, origin: [0, 0], size: [1, 1], spacing: 0.025,
-///              holes: [{center: [0.5, 0.5], radius: 0.2}], cracks: [{from: [0, 0.5], to: [0.2, 0.5]}]}
+///              holes: [{center: [0.5, 0.5], radius: 0.2}], cracks: [{from: [0, 0.5], to: [0.2,
+///              0.5]}]}
 ///   horizon: {factor: 3.015}            # or {value: 0.075}
 ///   material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
 ///   boundary:
@@ -77,7 +78,8 @@ Scene load_scene(const std::filesystem::path& file);
 std::string resolved_yaml(const Scene& s);
 
 /// Point indices selected by a region (throws InputError if none).
-std::vector<int> select(const Scene& s, const solver::Discretization& body, const BoundaryCondition& bc);
+std::vector<int> select(const Scene& s, const solver::Discretization& body,
+                        const BoundaryCondition& bc);
 
 /// Runs the scene: per output step an HDF5 file (results_NNNN.h5) with the XDMF
 /// time series results.xdmf, reactions.csv and scene.resolved.yaml in the

@@ -31,7 +31,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <functional>
 #include <string>

@@ -17,7 +17,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <memory>
 #include <string>
 
@@ -60,8 +59,7 @@ struct NeoHookeanParameters {
 };
 
 /// 3D evaluation (free function, used by all three variants). Returns false if J ≤ 0.
-bool neo_hookean_3d(const NeoHookeanParameters& p, const Mat3& F, double* psi, Mat3* P,
-                    Tangent* A);
+bool neo_hookean_3d(const NeoHookeanParameters& p, const Mat3& F, double* psi, Mat3* P, Tangent* A);
 
 class NeoHookean3D final : public Material {
  public:

@@ -29,7 +29,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
-
 #include <memory>
 #include <vector>
 
@@ -69,8 +68,7 @@ class Model {
   /// Internal force f(u). Returns false if some F is inadmissible.
   bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   /// Internal force and its tangent K = ∂f/∂u (pattern fixed at construction).
-  bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
-                                  SparseRow& K) const;
+  bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow& K) const;
 
   /// Point deformation gradients: weighted mean of the energy stencils centred
   /// at each point (BA: Σ_j φ̂_ij V_j F_ij; classical: F_i). 3×3 with the

@@ -17,7 +17,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <array>
 #include <functional>
 #include <memory>
@@ -49,21 +48,21 @@ struct TractionSet {
 };
 
 struct NewtonOptions {
-  int steps = 20;              ///< nominal load steps, t = 0 … 1
-  double tolerance = 1e-8;     ///< relative, for residual and increment
-  int max_iterations = 30;     ///< per load step
-  int max_cutbacks = 10;       ///< halvings of the nominal step
+  int steps = 20;           ///< nominal load steps, t = 0 … 1
+  double tolerance = 1e-8;  ///< relative, for residual and increment
+  int max_iterations = 30;  ///< per load step
+  int max_cutbacks = 10;    ///< halvings of the nominal step
   bool line_search = true;
   LinearSolver linear = LinearSolver::umfpack;
 };
 
 struct StepReport {
-  int step = 0;           ///< converged step number (1, 2, …)
-  double t = 0.0;         ///< load factor
+  int step = 0;    ///< converged step number (1, 2, …)
+  double t = 0.0;  ///< load factor
   int iterations = 0;
   double residual = 0.0;  ///< final relative residual
   std::vector<double> residual_history;
-  int cutbacks = 0;       ///< cutbacks spent on this step
+  int cutbacks = 0;               ///< cutbacks spent on this step
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
 };

@@ -112,7 +112,8 @@ TEST(Scene, BadInputIsReported) {
 
 TEST(Scene, MissingConstraintIsReported) {
   // No y-constraint: the static problem is singular.
-  std::string text = replace(kContract, "  - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}\n", "");
+  std::string text = replace(
+      kContract, "  - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}\n", "");
   text = replace(text, "spacing: 0.025", "spacing: 0.1");
   text = replace(text, "holes: [{center: [0.5, 0.5], radius: 0.2}]", "holes: []");
   text = replace(text, "cracks: [{from: [0.0, 0.5], to: [0.2, 0.5]}]", "cracks: []");
@@ -121,7 +122,8 @@ TEST(Scene, MissingConstraintIsReported) {
     scene::run_scene(s, fs::temp_directory_path() / "pdcg_scene_test" / "nopin");
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no displacement constraint in y"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no displacement constraint in y"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -137,7 +139,8 @@ TEST(Scene, SmallRunWritesResultsAndReactions) {
   const fs::path out = fs::temp_directory_path() / "pdcg_scene_test" / "small";
   fs::remove_all(out);
   scene::run_scene(s, out);
-  for (const char* f : {"scene.resolved.yaml", "reactions.csv", "results.xdmf", "results_0001.h5", "results_0002.h5"})
+  for (const char* f : {"scene.resolved.yaml", "reactions.csv", "results.xdmf", "results_0001.h5",
+                        "results_0002.h5"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   std::ifstream csv(out / "reactions.csv");
   std::string header, line, last;

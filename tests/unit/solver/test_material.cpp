@@ -70,8 +70,10 @@ void check_derivatives(const Material& m, std::uint32_t seed) {
       }
     // Central differences with h = 1e-6 have truncation ~h² and round-off ~1e-16/h:
     // 1e-6 relative to the largest entry is met by a correct derivative only.
-    EXPECT_LT(pdcg::test::max_norm_relative_error(p_an, p_fd), 1e-6) << m.name() << " P, trial " << trial;
-    EXPECT_LT(pdcg::test::max_norm_relative_error(a_an, a_fd), 1e-6) << m.name() << " A, trial " << trial;
+    EXPECT_LT(pdcg::test::max_norm_relative_error(p_an, p_fd), 1e-6)
+        << m.name() << " P, trial " << trial;
+    EXPECT_LT(pdcg::test::max_norm_relative_error(a_an, a_fd), 1e-6)
+        << m.name() << " A, trial " << trial;
     // Hyperelastic tangent is major-symmetric.
     EXPECT_LT((A - A.transpose()).norm(), 1e-10 * A.norm()) << m.name();
   }
@@ -103,7 +105,9 @@ const NeoHookeanParameters kParams{1.3, 11.0};
 
 }  // namespace
 
-TEST(NeoHookean, ThreeDDerivativesMatchFiniteDifferences) { check_derivatives(NeoHookean3D(kParams), 1); }
+TEST(NeoHookean, ThreeDDerivativesMatchFiniteDifferences) {
+  check_derivatives(NeoHookean3D(kParams), 1);
+}
 TEST(NeoHookean, PlaneStrainDerivativesMatchFiniteDifferences) {
   check_derivatives(NeoHookeanPlaneStrain(kParams), 2);
 }
@@ -141,7 +145,8 @@ TEST(NeoHookean, SmallStrainLimitIsLinearElasticity) {
     for (int J = 0; J < 3; ++J)
       for (int b = 0; b < 3; ++b)
         for (int L = 0; L < 3; ++L) {
-          const double e = lam * (a == J) * (b == L) + mu * ((a == b) * (J == L) + (a == L) * (b == J));
+          const double e =
+              lam * (a == J) * (b == L) + mu * ((a == b) * (J == L) + (a == L) * (b == J));
           EXPECT_NEAR(A(flat(a, J), flat(b, L)), e, 1e-12);  // exact up to round-off
         }
   // Plane stress tangent at I: C1111 = E/(1−ν²), C1122 = Eν/(1−ν²), C1212 = μ.

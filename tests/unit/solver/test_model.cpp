@@ -106,8 +106,9 @@ TEST(Discretization, BadInputIsReported) {
 TEST(Discretization, GradientsExactForLinearFields) {
   for (int dim : {2, 3}) {
     const auto D = small_grid(dim, dim == 2 ? 12 : 6);
-    const Mat3 H = in_plane((Mat3() << 0.3, -0.7, 0.2, 1.1, -0.4, 0.5, 0.9, 0.1, -0.2).finished(), dim) -
-                   (dim == 2 ? Mat3(Eigen::Vector3d(0, 0, 1).asDiagonal()) : Mat3::Zero());
+    const Mat3 H =
+        in_plane((Mat3() << 0.3, -0.7, 0.2, 1.1, -0.4, 0.5, 0.9, 0.1, -0.2).finished(), dim) -
+        (dim == 2 ? Mat3(Eigen::Vector3d(0, 0, 1).asDiagonal()) : Mat3::Zero());
     const Eigen::VectorXd u = affine(D, H, Vec3(0.3, -0.2, 0.1));
     for (auto kind : {Correspondence::bond_associated, Correspondence::classical}) {
       NeoHookeanParameters p{1.0, 10.0};
@@ -246,7 +247,8 @@ TEST(Model, TangentMatchesFiniteDifferences2D) {
   for (auto k : {Kinematics::plane_strain, Kinematics::plane_stress})
     for (auto c : {Correspondence::bond_associated, Correspondence::classical})
       for (auto b : {BoundaryForm::weak, BoundaryForm::energy}) {
-        SCOPED_TRACE(::testing::Message() << "kinematics " << int(k) << " corr " << int(c) << " bnd " << int(b));
+        SCOPED_TRACE(::testing::Message()
+                     << "kinematics " << int(k) << " corr " << int(c) << " bnd " << int(b));
         check_tangent(D, *make_neo_hookean(p, k), {c, b});
       }
 }
