@@ -58,17 +58,27 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   // Matrix pattern: pairs of points sharing an energy stencil, plus weak rows.
   const Stencils& Pst = body.point_stencils();
   std::vector<std::vector<int>> adj(N);
-#pragma omp parallel for schedule(dynamic, 32)
-  for (std::size_t k = 0; k < N; ++k) {
-    auto& a = adj[k];
-    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
-      const int s = member_of_.index[q];
-      a.insert(a.end(), S.index.begin() + S.offsets[s], S.index.begin() + S.offsets[s + 1]);
+#pragma omp parallel
+  {
+    // Per-thread marker: each neighbour is collected once, then the short list is sorted.
+    std::vector<std::size_t> mark(N, static_cast<std::size_t>(-1));
+#pragma omp for schedule(dynamic, 32)
+    for (std::size_t k = 0; k < N; ++k) {
+      auto& a = adj[k];
+      auto add = [&](int n) {
+        if (mark[n] != k) {
+          mark[n] = k;
+          a.push_back(n);
+        }
+      };
+      for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+        const int s = member_of_.index[q];
+        for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) add(S.index[r]);
+      }
+      if (weak_row_[k])
+        for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) add(Pst.index[r]);
+      std::sort(a.begin(), a.end());
     }
-    if (weak_row_[k])
-      a.insert(a.end(), Pst.index.begin() + Pst.offsets[k], Pst.index.begin() + Pst.offsets[k + 1]);
-    std::sort(a.begin(), a.end());
-    a.erase(std::unique(a.begin(), a.end()), a.end());
   }
   adjacency_.offsets.assign(N + 1, 0);
   for (std::size_t k = 0; k < N; ++k)
@@ -77,18 +87,22 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   for (auto& a : adj) adjacency_.index.insert(adjacency_.index.end(), a.begin(), a.end());
   adj.clear();
   const int n = static_cast<int>(dofs());
+  // Fill the compressed row storage directly (row d·k+a: columns d·n+b, n ∈ adjacency(k)).
   pattern_.resize(n, n);
-  Eigen::VectorXi per_row(n);
-  for (std::size_t k = 0; k < N; ++k)
-    for (int a = 0; a < d_; ++a)
-      per_row(d_ * k + a) = static_cast<int>(d_ * (adjacency_.end(k) - adjacency_.begin(k)));
-  pattern_.reserve(per_row);
-  for (std::size_t k = 0; k < N; ++k)
-    for (int a = 0; a < d_; ++a)
-      for (auto q = adjacency_.begin(k); q < adjacency_.end(k); ++q)
-        for (int b = 0; b < d_; ++b)
-          pattern_.insert(static_cast<int>(d_ * k + a), d_ * adjacency_.index[q] + b) = 0.0;
   pattern_.makeCompressed();
+  const std::int64_t nnz = static_cast<std::int64_t>(d_) * d_ * adjacency_.offsets[N];
+  pattern_.resizeNonZeros(nnz);
+  int* outer = pattern_.outerIndexPtr();
+  int* inner = pattern_.innerIndexPtr();
+  std::int64_t pos = 0;
+  for (std::size_t k = 0; k < N; ++k)
+    for (int a = 0; a < d_; ++a) {
+      outer[d_ * k + a] = static_cast<int>(pos);
+      for (auto q = adjacency_.begin(k); q < adjacency_.end(k); ++q)
+        for (int b = 0; b < d_; ++b) inner[pos++] = d_ * adjacency_.index[q] + b;
+    }
+  outer[n] = static_cast<int>(pos);
+  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + nnz, 0.0);
 }
 
 Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u) const {
