@@ -189,75 +189,78 @@ bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
   f.setZero(dofs());
   double* vals = K.valuePtr();
   const int* outer = K.outerIndexPtr();
-#pragma omp parallel for schedule(dynamic, 16)
-  for (std::size_t k = 0; k < N; ++k) {
-    const int* adj_b = adjacency_.index.data() + adjacency_.begin(k);
-    const int* adj_e = adjacency_.index.data() + adjacency_.end(k);
-    const std::int64_t row_len = d * (adj_e - adj_b);
-    double* rows[3];
-    for (int a = 0; a < d; ++a) {
-      rows[a] = vals + outer[d * k + a];
-      std::fill(rows[a], rows[a] + row_len, 0.0);
-    }
-    double B[3][9];  // B[a][b*3+L] = w Σ_J A_aJbL G^k_J
-    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
-      const int s = member_of_.index[q];
-      const double w = S.weight[s];
-      const double* gk = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d;
-      const Mat3& P = Ps_[s];
-      const Tangent& A = As_[s];
+  // Per thread: slot[n] = position of point n in the current row's adjacency
+  // (O(1) column lookup; allocated once per assembly, outside the point loop).
+#pragma omp parallel
+  {
+    std::vector<int> slot(N, -1);
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t k = 0; k < N; ++k) {
+      const int* adj_b = adjacency_.index.data() + adjacency_.begin(k);
+      const int* adj_e = adjacency_.index.data() + adjacency_.end(k);
+      for (const int* p = adj_b; p != adj_e; ++p) slot[*p] = static_cast<int>(p - adj_b);
+      const std::int64_t row_len = d * (adj_e - adj_b);
+      double* rows[3];
       for (int a = 0; a < d; ++a) {
-        double v = 0;
-        for (int J = 0; J < d; ++J) v += P(a, J) * gk[J];
-        f[d * k + a] += w * v;
-        for (int b = 0; b < d; ++b)
-          for (int L = 0; L < d; ++L) {
-            double t = 0;
-            for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * gk[J];
-            B[a][3 * b + L] = w * t;
-          }
+        rows[a] = vals + outer[d * k + a];
+        std::fill(rows[a], rows[a] + row_len, 0.0);
       }
-      const int* pos = adj_b;
-      for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
-        const int n = S.index[r];
-        pos = std::lower_bound(pos, adj_e, n);
-        const double* gn = S.grad.data() + r * d;
-        const std::int64_t c0 = d * (pos - adj_b);
-        for (int a = 0; a < d; ++a)
-          for (int b = 0; b < d; ++b) {
-            double t = 0;
-            for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
-            rows[a][c0 + b] += t;
-          }
+      double B[3][9];  // B[a][b*3+L] = w Σ_J A_aJbL G^k_J
+      for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+        const int s = member_of_.index[q];
+        const double w = S.weight[s];
+        const double* gk = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d;
+        const Mat3& P = Ps_[s];
+        const Tangent& A = As_[s];
+        for (int a = 0; a < d; ++a) {
+          double v = 0;
+          for (int J = 0; J < d; ++J) v += P(a, J) * gk[J];
+          f[d * k + a] += w * v;
+          for (int b = 0; b < d; ++b)
+            for (int L = 0; L < d; ++L) {
+              double t = 0;
+              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * gk[J];
+              B[a][3 * b + L] = w * t;
+            }
+        }
+        for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+          const int n = S.index[r];
+          const double* gn = S.grad.data() + r * d;
+          const std::int64_t c0 = static_cast<std::int64_t>(d) * slot[n];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b) {
+              double t = 0;
+              for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
+              rows[a][c0 + b] += t;
+            }
+        }
+      }
+      if (weak_row_[k]) {
+        const Vec3& e = defect_[k];
+        const Tangent& A = Abar_[k];
+        for (int a = 0; a < d; ++a) {
+          for (int J = 0; J < d; ++J) f[d * k + a] -= Pbar_[k](a, J) * e(J);
+          for (int b = 0; b < d; ++b)
+            for (int L = 0; L < d; ++L) {
+              double t = 0;
+              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
+              B[a][3 * b + L] = t;
+            }
+        }
+        for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
+          const int n = Pst.index[r];
+          const double* gn = Pst.grad.data() + r * d;
+          const std::int64_t c0 = static_cast<std::int64_t>(d) * slot[n];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b) {
+              double t = 0;
+              for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
+              rows[a][c0 + b] -= t;
+            }
+        }
       }
     }
-    if (weak_row_[k]) {
-      const Vec3& e = defect_[k];
-      const Tangent& A = Abar_[k];
-      for (int a = 0; a < d; ++a) {
-        for (int J = 0; J < d; ++J) f[d * k + a] -= Pbar_[k](a, J) * e(J);
-        for (int b = 0; b < d; ++b)
-          for (int L = 0; L < d; ++L) {
-            double t = 0;
-            for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
-            B[a][3 * b + L] = t;
-          }
-      }
-      const int* pos = adj_b;
-      for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
-        const int n = Pst.index[r];
-        pos = std::lower_bound(pos, adj_e, n);
-        const double* gn = Pst.grad.data() + r * d;
-        const std::int64_t c0 = d * (pos - adj_b);
-        for (int a = 0; a < d; ++a)
-          for (int b = 0; b < d; ++b) {
-            double t = 0;
-            for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
-            rows[a][c0 + b] -= t;
-          }
-      }
-    }
-  }
+  }  // omp parallel
   return true;
 }
 
