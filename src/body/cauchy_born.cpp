@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <tuple>
 
 #include "pdcg/core/error.hpp"
 
@@ -25,6 +27,32 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
         .key("box")
         .expected("a box whose first `dimension` edges span a positive measure")
         .fix("give the configuration a box (periodic for a perfect crystal)");
+  // Equivalence classes of atoms: same type and the same multiset of (ξ rounded to
+  // 1e-10·horizon, partner type, pair factor, bond type). A perfect Bravais crystal has one
+  // class, so W, P, A cost one family instead of N.
+  const auto& fam = body.families;
+  double scale = 0.0;
+  for (double v : fam.xi) scale = std::max(scale, std::abs(v));
+  const double tol = 1e-10 * std::max(scale, 1e-300);
+  using Key = std::vector<std::tuple<long long, long long, long long, int, double, int>>;
+  std::map<std::pair<int, Key>, std::int32_t> classes;
+  representative_.resize(body.size());
+  multiplicity_.assign(body.size(), 0);
+  for (std::size_t k = 0; k < body.size(); ++k) {
+    Key key;
+    for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
+      const auto bb = static_cast<std::size_t>(b);
+      key.emplace_back(std::llround(fam.xi[3 * bb] / tol), std::llround(fam.xi[3 * bb + 1] / tol),
+                       std::llround(fam.xi[3 * bb + 2] / tol), body.type[static_cast<std::size_t>(fam.neighbor[bb])],
+                       fam.pair_factor.empty() ? 1.0 : fam.pair_factor[bb],
+                       fam.bond_type.empty() ? 0 : fam.bond_type[bb]);
+    }
+    std::sort(key.begin(), key.end());
+    const auto [it, fresh] = classes.emplace(std::make_pair(body.type[k], std::move(key)), static_cast<std::int32_t>(k));
+    representative_[k] = it->second;
+    ++multiplicity_[static_cast<std::size_t>(it->second)];
+  }
+  classes_ = classes.size();
 }
 
 void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
@@ -51,6 +79,7 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
     }
 #pragma omp for schedule(dynamic, 16)
     for (std::int64_t k = 0; k < N; ++k) {
+      if (representative_[static_cast<std::size_t>(k)] != k) continue;
       const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
       const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
       const double* xi = fam.xi.data() + 3 * b0;
@@ -100,6 +129,18 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
                 ak[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * mb[3 * (3 * i + kk) + L];
       }
     }
+  }
+  // copy the representatives' results to the other members of their class
+  for (std::int64_t k = 0; k < N; ++k) {
+    const auto r = static_cast<std::size_t>(representative_[static_cast<std::size_t>(k)]);
+    const auto kk = static_cast<std::size_t>(k);
+    if (r == kk) continue;
+    psi[kk] = psi[r];
+    std::copy(p.begin() + static_cast<std::ptrdiff_t>(9 * r), p.begin() + static_cast<std::ptrdiff_t>(9 * r + 9),
+              p.begin() + static_cast<std::ptrdiff_t>(9 * kk));
+    if (tangent)
+      std::copy(a.begin() + static_cast<std::ptrdiff_t>(81 * r), a.begin() + static_cast<std::ptrdiff_t>(81 * r + 81),
+                a.begin() + static_cast<std::ptrdiff_t>(81 * kk));
   }
 }
 

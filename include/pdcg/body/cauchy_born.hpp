@@ -28,6 +28,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <vector>
 
 #include "pdcg/body/body.hpp"
@@ -56,12 +57,18 @@ class CauchyBorn {
   std::vector<CauchyBornState> points(const Eigen::Matrix3d& F, bool tangent = true) const;
 
   const Body& body() const { return body_; }
+  /// Number of distinct atomic environments (atoms whose families coincide — same type and
+  /// the same bonds ξ to 1e-10·max|ξ|, partner types, special factors — are evaluated once).
+  std::size_t environments() const { return classes_; }
 
  private:
   /// Per-atom ψ_k, Σ_b t_b⊗ξ_b (9 per atom), Σ_bc K_bc ξ_b ξ_c (81 per atom, if tangent).
   void per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
                 std::vector<double>& p, std::vector<double>& a) const;
   const Body& body_;
+  std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class
+  std::vector<std::int32_t> multiplicity_;
+  std::size_t classes_ = 0;
 };
 
 /// Strain-based elastic constants C_MJNL = ∂²W/∂E_MJ∂E_NL from (F, P, A) (formula above),

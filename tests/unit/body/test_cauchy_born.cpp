@@ -15,6 +15,7 @@
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/cauchy_born.hpp"
+#include "pdcg/body/cauchy_born_material.hpp"
 #include "pdcg/coarsen/homogenise.hpp"
 #include "pdcg/coarsen/kernels.hpp"
 #include "pdcg/coarsen/rescale.hpp"
@@ -270,4 +271,31 @@ TEST(CauchyBorn, TriangularSheetPlaneStrainIsNeoHookeanAtSmallStrain) {
   EXPECT_LT(fit.relative_error, 1e-2);
   const auto big = fit_neo_hookean(cb, fit_deformations(2, 1.1, 5));
   std::printf("  triangular LJ, λ ≤ 1.1: μ %.6g K %.6g rel.err %.3g\n", big.mu, big.bulk, big.relative_error);
+}
+
+TEST(CauchyBorn, SolverMaterialAdapterAndEnvironmentClasses) {
+  const Model m = model("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 3, 3.615);
+  const auto body = std::make_shared<const Body>(m.body);
+  const CauchyBornMaterial mat(body, "cu");
+  EXPECT_EQ(mat.cauchy_born().environments(), 1u);  // perfect FCC: one environment
+  EXPECT_EQ(mat.dimension(), 3);
+  Eigen::Matrix3d F;
+  F << 1.02, 0.01, 0.0, -0.01, 0.99, 0.02, 0.0, 0.01, 1.01;
+  double psi;
+  solver::Mat3 P;
+  solver::Tangent A;
+  ASSERT_TRUE(mat.evaluate(F, &psi, &P, &A));
+  // every atom evaluated (a perturbed copy has N environments): same W, P, A to round-off
+  Atoms pert = m.atoms;
+  pert.x[0] += 1e-3;
+  const Body bp = make_delta_body(pert, m.pot, m.spec, {.dimension = 3, .cutoff = 0.0, .source = "p"});
+  const CauchyBorn cbp(bp);
+  EXPECT_GT(cbp.environments(), 1u);
+  const CauchyBornState s = CauchyBorn(m.body).evaluate(F);
+  EXPECT_NEAR(psi, s.W, 1e-14 * std::abs(s.W));
+  EXPECT_FALSE(mat.evaluate(-F, &psi, &P, &A));  // det F < 0: inadmissible
+  const auto copy = mat.clone();
+  double psi2;
+  ASSERT_TRUE(copy->evaluate(F, &psi2, nullptr, nullptr));
+  EXPECT_EQ(psi2, psi);
 }
