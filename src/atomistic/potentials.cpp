@@ -721,8 +721,7 @@ class EamModel final : public Potential {
     p -= m;
     const bool fclamped = p > 1.0;
     p = std::min(p, 1.0);
-    const double* cf =
-        spline_of(e_.frho_spline, e_.type2frho[static_cast<std::size_t>(kt)], m);
+    const double* cf = spline_of(e_.frho_spline, e_.type2frho[static_cast<std::size_t>(kt)], m);
     const double fp = (cf[0] * p + cf[1]) * p + cf[2];
     const double fpp = fclamped ? 0.0 : (2.0 * cf[0] * p + cf[1]) * e_.rdrho;
     double* u = work;  // g_j e_j

@@ -1,7 +1,6 @@
 #include "pdcg/body/cauchy_born.hpp"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -18,7 +17,9 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
         .key("kind")
         .value("statistical")
         .expected("a delta, homogenised or rescaled body")
-        .fix("build the Cauchy–Born material from the delta body (before `pdcg atoms2pd --statistics`)");
+        .fix(
+            "build the Cauchy–Born material from the delta body (before `pdcg atoms2pd "
+            "--statistics`)");
   if (!body.potential) throw InputError("body has no potential").fix("rebuild the body file");
   if (body.families.points() != body.size() || body.size() == 0)
     throw InputError("body has no families").fix("rebuild the body with `pdcg atoms2pd`");
@@ -43,12 +44,14 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
       const auto bb = static_cast<std::size_t>(b);
       key.emplace_back(std::llround(fam.xi[3 * bb] / tol), std::llround(fam.xi[3 * bb + 1] / tol),
-                       std::llround(fam.xi[3 * bb + 2] / tol), body.type[static_cast<std::size_t>(fam.neighbor[bb])],
+                       std::llround(fam.xi[3 * bb + 2] / tol),
+                       body.type[static_cast<std::size_t>(fam.neighbor[bb])],
                        fam.pair_factor.empty() ? 1.0 : fam.pair_factor[bb],
                        fam.bond_type.empty() ? 0 : fam.bond_type[bb]);
     }
     std::sort(key.begin(), key.end());
-    const auto [it, fresh] = classes.emplace(std::make_pair(body.type[k], std::move(key)), static_cast<std::int32_t>(k));
+    const auto [it, fresh] =
+        classes.emplace(std::make_pair(body.type[k], std::move(key)), static_cast<std::int32_t>(k));
     representative_[k] = it->second;
     ++multiplicity_[static_cast<std::size_t>(it->second)];
   }
@@ -65,11 +68,13 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
   a.assign(tangent ? static_cast<std::size_t>(81 * N) : 0, 0.0);
   std::int64_t nmax = 0;
   for (std::int64_t k = 0; k < N; ++k)
-    nmax = std::max(nmax, fam.offset[static_cast<std::size_t>(k + 1)] - fam.offset[static_cast<std::size_t>(k)]);
+    nmax = std::max(nmax, fam.offset[static_cast<std::size_t>(k + 1)] -
+                              fam.offset[static_cast<std::size_t>(k)]);
 #pragma omp parallel
   {
     // per-thread work arrays, sized once for the largest family
-    std::vector<double> Y(static_cast<std::size_t>(3 * nmax)), t(static_cast<std::size_t>(3 * nmax));
+    std::vector<double> Y(static_cast<std::size_t>(3 * nmax)),
+        t(static_cast<std::size_t>(3 * nmax));
     std::vector<int> nt(static_cast<std::size_t>(nmax));
     std::vector<double> K, work, M;
     if (tangent) {
@@ -85,7 +90,8 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
       const double* xi = fam.xi.data() + 3 * b0;
       for (std::int64_t b = 0; b < n; ++b) {
         const auto bb = static_cast<std::size_t>(b);
-        nt[bb] = body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
+        nt[bb] =
+            body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
         for (int i = 0; i < 3; ++i)
           Y[3 * bb + static_cast<std::size_t>(i)] =
               F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2];
@@ -101,7 +107,8 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
       double* pk = p.data() + 9 * k;
       for (std::int64_t b = 0; b < n; ++b)
         for (int i = 0; i < 3; ++i)
-          for (int J = 0; J < 3; ++J) pk[3 * i + J] += t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
+          for (int J = 0; J < 3; ++J)
+            pk[3 * i + J] += t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
       if (!tangent) continue;
       pot.force_state_tangent(f, K.data(), work.data());
       // M_b,ikL = Σ_c K_bc,ik ξ_c,L  (n²·27), then A_iJkL += Σ_b ξ_b,J M_b,ikL  (n·81)
@@ -136,10 +143,12 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
     const auto kk = static_cast<std::size_t>(k);
     if (r == kk) continue;
     psi[kk] = psi[r];
-    std::copy(p.begin() + static_cast<std::ptrdiff_t>(9 * r), p.begin() + static_cast<std::ptrdiff_t>(9 * r + 9),
+    std::copy(p.begin() + static_cast<std::ptrdiff_t>(9 * r),
+              p.begin() + static_cast<std::ptrdiff_t>(9 * r + 9),
               p.begin() + static_cast<std::ptrdiff_t>(9 * kk));
     if (tangent)
-      std::copy(a.begin() + static_cast<std::ptrdiff_t>(81 * r), a.begin() + static_cast<std::ptrdiff_t>(81 * r + 81),
+      std::copy(a.begin() + static_cast<std::ptrdiff_t>(81 * r),
+                a.begin() + static_cast<std::ptrdiff_t>(81 * r + 81),
                 a.begin() + static_cast<std::ptrdiff_t>(81 * kk));
   }
 }
@@ -159,15 +168,18 @@ CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) con
     std::fill(wk.begin(), wk.end(), 0.0);
     for (std::size_t q = 0; q < h.size(); ++q)
       for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
-        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] += h.weight[static_cast<std::size_t>(c)];
+        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
+            h.weight[static_cast<std::size_t>(c)];
   }
   for (std::size_t k = 0; k < N; ++k) {
     s.W += wk[k] * psi[k];
     for (int i = 0; i < 3; ++i)
-      for (int J = 0; J < 3; ++J) s.P(i, J) += wk[k] * p[9 * k + static_cast<std::size_t>(3 * i + J)];
+      for (int J = 0; J < 3; ++J)
+        s.P(i, J) += wk[k] * p[9 * k + static_cast<std::size_t>(3 * i + J)];
     if (tangent)
       for (int r = 0; r < 9; ++r)
-        for (int c = 0; c < 9; ++c) s.A(r, c) += wk[k] * a[81 * k + static_cast<std::size_t>(9 * r + c)];
+        for (int c = 0; c < 9; ++c)
+          s.A(r, c) += wk[k] * a[81 * k + static_cast<std::size_t>(9 * r + c)];
   }
   s.W /= V;
   s.P /= V;
@@ -194,7 +206,8 @@ std::vector<CauchyBornState> CauchyBorn::points(const Eigen::Matrix3d& F, bool t
       for (int r = 0; r < 9; ++r) s.P(r / 3, r % 3) += w * p[9 * k + static_cast<std::size_t>(r)];
       if (tangent)
         for (int r = 0; r < 9; ++r)
-          for (int cc = 0; cc < 9; ++cc) s.A(r, cc) += w * a[81 * k + static_cast<std::size_t>(9 * r + cc)];
+          for (int cc = 0; cc < 9; ++cc)
+            s.A(r, cc) += w * a[81 * k + static_cast<std::size_t>(9 * r + cc)];
     }
     const double inv = 1.0 / h.volume[q];
     s.W *= inv;
@@ -248,7 +261,8 @@ Moduli moduli(const Matrix6d& C, int dimension) {
   }
   m.bulk_voigt = (C(0, 0) + C(1, 1) + C(2, 2) + 2 * (C(0, 1) + C(0, 2) + C(1, 2))) / 9;
   m.shear_voigt = (C(0, 0) + C(1, 1) + C(2, 2) - (C(0, 1) + C(0, 2) + C(1, 2)) +
-                   3 * (C(3, 3) + C(4, 4) + C(5, 5))) / 15;
+                   3 * (C(3, 3) + C(4, 4) + C(5, 5))) /
+                  15;
   const Matrix6d s = C.inverse();
   m.bulk_reuss = 1.0 / (s(0, 0) + s(1, 1) + s(2, 2) + 2 * (s(0, 1) + s(0, 2) + s(1, 2)));
   m.shear_reuss = 15.0 / (4 * (s(0, 0) + s(1, 1) + s(2, 2)) - 4 * (s(0, 1) + s(0, 2) + s(1, 2)) +
@@ -392,7 +406,8 @@ double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direct
     for (int i = 0; i < 3; ++i)
       for (int J = 0; J < 3; ++J)
         for (int k = 0; k < 3; ++k)
-          for (int L = 0; L < 3; ++L) v += nvec[i] * nvec[J] * nvec[k] * nvec[L] * s.A(3 * i + J, 3 * k + L);
+          for (int L = 0; L < 3; ++L)
+            v += nvec[i] * nvec[J] * nvec[k] * nvec[L] * s.A(3 * i + J, 3 * k + L);
     return v;
   };
   double prev = 1.0, sprev = slope(1.0);

@@ -25,7 +25,8 @@ std::string matrix_json(const Eigen::MatrixXd& m) {
   std::string s = "[";
   for (Eigen::Index r = 0; r < m.rows(); ++r) {
     s.append(r ? ", [" : "[");
-    for (Eigen::Index c = 0; c < m.cols(); ++c) s.append(fmt::format("{}{:.17g}", c ? ", " : "", m(r, c)));
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      s.append(fmt::format("{}{:.17g}", c ? ", " : "", m(r, c)));
     s.append("]");
   }
   return s.append("]");
@@ -49,18 +50,21 @@ int run(const Options& o) {
         .value(fmt::format("{}", o.fit))
         .expected("a stretch > 1, e.g. 1.1");
   const body::Body b = body::read_body(o.body);
-  if (b.dimension == 2 && (F(0, 2) != 0.0 || F(1, 2) != 0.0 || F(2, 0) != 0.0 || F(2, 1) != 0.0 || F(2, 2) != 1.0))
+  if (b.dimension == 2 &&
+      (F(0, 2) != 0.0 || F(1, 2) != 0.0 || F(2, 0) != 0.0 || F(2, 1) != 0.0 || F(2, 2) != 1.0))
     throw InputError("2D body: F must be a plane-strain deformation")
         .source("--F")
         .value(o.F)
-        .expected("F13 = F23 = F31 = F32 = 0 and F33 = 1 (bodies of dimension 2 lie in the xy plane)");
+        .expected(
+            "F13 = F23 = F31 = F32 = 0 and F33 = 1 (bodies of dimension 2 lie in the xy plane)");
   const body::CauchyBorn cb(b);
   const body::CauchyBornState st = cb.evaluate(F);
   const body::Matrix6d C = body::voigt_elastic_constants(F, st);
   const body::Moduli mod = body::moduli(C, b.dimension);
   const Eigen::Matrix3d S = F.inverse() * st.P;
   std::optional<body::NeoHookeanFit> fit;
-  if (o.fit > 1.0) fit = body::fit_neo_hookean(cb, body::fit_deformations(b.dimension, o.fit, o.fit_steps));
+  if (o.fit > 1.0)
+    fit = body::fit_neo_hookean(cb, body::fit_deformations(b.dimension, o.fit, o.fit_steps));
   double infl = 0.0, peak = 0.0;
   if (o.critical) {
     if (b.base_potential && b.base_potential->pairwise() && b.base_potential->ntypes() >= 1)
@@ -72,39 +76,44 @@ int run(const Options& o) {
     std::string out = fmt::format(
         "{{\"body\": \"{}\", \"kind\": \"{}\", \"dimension\": {}, \"units\": \"{}\", \"F\": {}, "
         "\"energy_density\": {:.17g}, \"P\": {}, \"S\": {}, \"C_voigt\": {}, \"voigt_order\": "
-        "[\"11\", \"22\", \"33\", \"23\", \"13\", \"12\"], \"bulk_voigt\": {:.17g}, \"shear_voigt\": "
+        "[\"11\", \"22\", \"33\", \"23\", \"13\", \"12\"], \"bulk_voigt\": {:.17g}, "
+        "\"shear_voigt\": "
         "{:.17g}, \"bulk_reuss\": {:.17g}, \"shear_reuss\": {:.17g}",
-        o.body, to_string(b.kind), b.dimension, u, matrix_json(F), st.W, matrix_json(st.P), matrix_json(S),
-        matrix_json(C), mod.bulk_voigt, mod.shear_voigt, mod.bulk_reuss, mod.shear_reuss);
+        o.body, to_string(b.kind), b.dimension, u, matrix_json(F), st.W, matrix_json(st.P),
+        matrix_json(S), matrix_json(C), mod.bulk_voigt, mod.shear_voigt, mod.bulk_reuss,
+        mod.shear_reuss);
     if (fit)
       out.append(fmt::format(
           ", \"neo_hookean\": {{\"mu\": {:.17g}, \"bulk\": {:.17g}, \"rms_error\": {:.17g}, "
           "\"relative_error\": {:.17g}, \"samples\": {}, \"max_stretch\": {:.17g}}}",
           fit->mu, fit->bulk, fit->rms_error, fit->relative_error, fit->samples, o.fit));
     if (o.critical)
-      out.append(fmt::format(", \"bond_inflection_stretch\": {:.17g}, \"uniaxial_peak_stretch_x\": {:.17g}", infl,
-                             peak));
+      out.append(fmt::format(
+          ", \"bond_inflection_stretch\": {:.17g}, \"uniaxial_peak_stretch_x\": {:.17g}", infl,
+          peak));
     out.append("}\n");
     std::fputs(out.c_str(), stdout);
     return 0;
   }
-  std::printf("%s: %s body, dimension %d, units %s\n", o.body.c_str(), std::string(to_string(b.kind)).c_str(),
-              b.dimension, u.c_str());
+  std::printf("%s: %s body, dimension %d, units %s\n", o.body.c_str(),
+              std::string(to_string(b.kind)).c_str(), b.dimension, u.c_str());
   std::printf("W(F) = %.10g (energy/volume)\n", st.W);
   std::printf("second Piola–Kirchhoff stress S = F⁻¹P:\n");
   for (int r = 0; r < 3; ++r) std::printf("  %14.7g %14.7g %14.7g\n", S(r, 0), S(r, 1), S(r, 2));
-  std::printf("C_IJ = ∂²W/∂E_I∂E_J (Voigt 11 22 33 23 13 12; pressure units):\n");
+  std::printf("C_IJ = ∂²W/∂E_I∂E_J (Voigt 11 22 33 23 13 12; energy/volume):\n");
   for (int r = 0; r < 6; ++r) {
     std::printf(" ");
     for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c));
     std::printf("\n");
   }
-  std::printf("%s bulk modulus: Voigt %.6g, Reuss %.6g; shear modulus: Voigt %.6g, Reuss %.6g\n",
-              b.dimension == 2 ? "2D (in-plane)" : "", mod.bulk_voigt, mod.bulk_reuss, mod.shear_voigt,
-              mod.shear_reuss);
+  std::printf("%sbulk modulus: Voigt %.6g, Reuss %.6g; shear modulus: Voigt %.6g, Reuss %.6g\n",
+              b.dimension == 2 ? "2D (in-plane) " : "", mod.bulk_voigt, mod.bulk_reuss,
+              mod.shear_voigt, mod.shear_reuss);
   if (fit)
-    std::printf("neo-Hookean fit (%d deformations, stretch ≤ %g): μ = %.6g, K = %.6g, RMS error %.3g (%.2f%% of RMS W)\n",
-                fit->samples, o.fit, fit->mu, fit->bulk, fit->rms_error, 100 * fit->relative_error);
+    std::printf(
+        "neo-Hookean fit (%d deformations, stretch ≤ %g): μ = %.6g, K = %.6g, RMS error %.3g "
+        "(%.2f%% of RMS W)\n",
+        fit->samples, o.fit, fit->mu, fit->bulk, fit->rms_error, 100 * fit->relative_error);
   if (o.critical) {
     if (infl > 0) std::printf("bond inflection stretch (types 1-1) r_infl/r0 = %.6f\n", infl);
     if (peak > 0)
@@ -116,18 +125,25 @@ int run(const Options& o) {
 }
 
 pdcg::cli::Registration reg(140, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("elastic", "Cauchy–Born elastic constants of a model at a pre-strain F");
+  auto* sub =
+      app.add_subcommand("elastic", "Cauchy–Born elastic constants of a model at a pre-strain F");
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
-  sub->add_option("--F", o->F, "Pre-strain deformation gradient, 9 numbers row-major (default identity)");
+  sub->add_option("--F", o->F,
+                  "Pre-strain deformation gradient, 9 numbers row-major (default identity)");
   sub->add_flag("--json", o->json, "JSON output");
-  sub->add_option("--fit", o->fit, "Neo-Hookean fit over uniaxial/biaxial/shear deformations up to this stretch");
-  sub->add_option("--fit-steps", o->fit_steps, "Stretch values per deformation mode in the fit (default 4)");
-  sub->add_flag("--critical", o->critical,
-                "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");
+  sub->add_option("--fit", o->fit,
+                  "Neo-Hookean fit over uniaxial/biaxial/shear deformations up to this stretch");
+  sub->add_option("--fit-steps", o->fit_steps,
+                  "Stretch values per deformation mode in the fit (default 4)");
+  sub->add_flag(
+      "--critical", o->critical,
+      "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");
   sub->footer(
-      "C is ∂²W/∂E∂E (Green–Lagrange strain E; at a stress-free F = I the usual elastic constants).\n"
-      "Example:\n  pdcg elastic cu.h5 --json\n  pdcg elastic lj.h5 --F \"1.01 0 0 0 1 0 0 0 1\" --fit 1.1 --critical");
+      "C is ∂²W/∂E∂E (Green–Lagrange strain E; at a stress-free F = I the usual elastic "
+      "constants).\n"
+      "Example:\n  pdcg elastic cu.h5 --json\n  pdcg elastic lj.h5 --F \"1.01 0 0 0 1 0 0 0 1\" "
+      "--fit 1.1 --critical");
   return [o] { return run(*o); };
 });
 

@@ -22,12 +22,12 @@
 /// centres of inversion, are exact). Bodies in dimension 2 lie in the xy plane: the 3×3
 /// formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the plane-strain reduction, and V₀ is the
 /// reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k w_kp ψ_k(Fξ) per point; the body's
-/// W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the delta body's W since Σ_p w_kp = 1). Rescaled bodies use the ε-wrapped potential on the scaled bonds
-/// (W_ε(F) = W(F), §2.4). Statistical bodies are not supported (InputError).
+/// W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the delta body's W since Σ_p w_kp = 1).
+/// Rescaled bodies use the ε-wrapped potential on the scaled bonds (W_ε(F) = W(F), §2.4).
+/// Statistical bodies are not supported (InputError).
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <vector>
 
@@ -39,9 +39,9 @@ using Matrix9d = Eigen::Matrix<double, 9, 9>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 struct CauchyBornState {
-  double W = 0.0;                              ///< energy density
+  double W = 0.0;                               ///< energy density
   Eigen::Matrix3d P = Eigen::Matrix3d::Zero();  ///< first Piola–Kirchhoff stress
-  Matrix9d A = Matrix9d::Zero();               ///< ∂P/∂F (row 3i+J, col 3k+L); zero if not asked
+  Matrix9d A = Matrix9d::Zero();  ///< ∂P/∂F (row 3i+J, col 3k+L); zero if not asked
 };
 
 class CauchyBorn {

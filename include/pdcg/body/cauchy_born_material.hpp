@@ -16,7 +16,6 @@
 #pragma once
 
 #include <Eigen/Dense>
-
 #include <memory>
 #include <string>
 
@@ -29,14 +28,18 @@ namespace pdcg::body {
 class CauchyBornMaterial final : public solver::Material {
  public:
   explicit CauchyBornMaterial(std::shared_ptr<const Body> body, std::string source = {})
-      : body_(std::move(body)), cb_(std::make_shared<CauchyBorn>(*body_)), source_(std::move(source)) {}
+      : body_(std::move(body)),
+        cb_(std::make_shared<CauchyBorn>(*body_)),
+        source_(std::move(source)) {}
   /// Reads a pdcg-body file (`material: {model: cauchy-born, file: res.h5}`).
   static std::unique_ptr<CauchyBornMaterial> from_file(const std::string& path) {
-    return std::make_unique<CauchyBornMaterial>(std::make_shared<const Body>(read_body(path)), path);
+    return std::make_unique<CauchyBornMaterial>(std::make_shared<const Body>(read_body(path)),
+                                                path);
   }
 
   int dimension() const override { return body_->dimension == 2 ? 2 : 3; }
-  bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P, solver::Tangent* A) const override {
+  bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P,
+                solver::Tangent* A) const override {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
     const CauchyBornState s = cb_->evaluate(Ff, A != nullptr);
@@ -65,15 +68,20 @@ class CauchyBornMaterial final : public solver::Material {
     return G;
   }
   std::string name() const override {
-    return std::string("cauchy-born (") + (dimension() == 2 ? "plane strain" : "3d") +
-           (source_.empty() ? "" : ", " + source_) + ")";
+    std::string n = "cauchy-born (";  // append, not "literal" + string (GCC 12 -Wrestrict)
+    n.append(dimension() == 2 ? "plane strain" : "3d");
+    if (!source_.empty()) n.append(", ").append(source_);
+    return n.append(")");
   }
-  std::unique_ptr<solver::Material> clone() const override { return std::make_unique<CauchyBornMaterial>(*this); }
+  std::unique_ptr<solver::Material> clone() const override {
+    return std::make_unique<CauchyBornMaterial>(*this);
+  }
   const CauchyBorn& cauchy_born() const { return *cb_; }
 
  private:
   std::shared_ptr<const Body> body_;
-  std::shared_ptr<const CauchyBorn> cb_;  // holds a reference to *body_ (shared, so clones stay valid)
+  std::shared_ptr<const CauchyBorn>
+      cb_;  // holds a reference to *body_ (shared, so clones stay valid)
   std::string source_;
 };
 

@@ -51,7 +51,8 @@ void fd_tangent(const Potential& pot, const FamilyState& f, double* K, double kn
       for (std::int64_t j = 0; j < n; ++j)
         for (int a = 0; a < 3; ++a)
           K[static_cast<std::size_t>((j * n + m) * 9 + 3 * a + b)] =
-              (tp[static_cast<std::size_t>(3 * j + a)] - tm[static_cast<std::size_t>(3 * j + a)]) / (2.0 * s);
+              (tp[static_cast<std::size_t>(3 * j + a)] - tm[static_cast<std::size_t>(3 * j + a)]) /
+              (2.0 * s);
     }
   }
 }
@@ -72,7 +73,8 @@ double check_tangent(const std::string& commands, const Atoms& atoms, int max_fa
     const std::int64_t b0 = fam.offset[k], n = fam.offset[k + 1] - b0;
     std::vector<int> nt(static_cast<std::size_t>(n));
     for (std::int64_t b = 0; b < n; ++b)
-      nt[static_cast<std::size_t>(b)] = atoms.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
+      nt[static_cast<std::size_t>(b)] =
+          atoms.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
     FamilyState f;
     f.type = atoms.type[k];
     f.size = n;
@@ -103,7 +105,8 @@ double check_tangent(const std::string& commands, const Atoms& atoms, int max_fa
 Atoms chains(int n, double a, double noise, int nbondtypes, unsigned seed) {
   Atoms at = fcc(n, n, n, a, noise, 1, seed);
   for (std::int64_t first = 1; first <= static_cast<std::int64_t>(at.size()); first += 4)
-    for (int k = 0; k < 3; ++k) at.bonds.push_back({1 + (k % nbondtypes), first + k, first + k + 1});
+    for (int k = 0; k < 3; ++k)
+      at.bonds.push_back({1 + (k % nbondtypes), first + k, first + k + 1});
   for (std::size_t i = 0; i < at.size(); ++i) at.type[i] = 1 + static_cast<int>(i % 4 == 0);
   return at;
 }

@@ -58,7 +58,8 @@ Model model(const std::string& cmds, int cells, double a) {
   m.spec = atomistic::read_potential_commands_from_string(cmds, "cb-test", 1);
   m.pot = atomistic::make_potential(m.spec);
   m.atoms = perfect_fcc(cells, a);
-  m.body = make_delta_body(m.atoms, m.pot, m.spec, {.dimension = 3, .cutoff = 0.0, .source = "fcc"});
+  m.body =
+      make_delta_body(m.atoms, m.pot, m.spec, {.dimension = 3, .cutoff = 0.0, .source = "fcc"});
   return m;
 }
 
@@ -105,7 +106,8 @@ Eigen::Vector3d lammps_constants(const Model& m, double h) {
 
 Eigen::Vector3d cb_constants(const Body& b, Matrix6d* full = nullptr) {
   const CauchyBorn cb(b);
-  const Matrix6d C = voigt_elastic_constants(Eigen::Matrix3d::Identity(), cb.evaluate(Eigen::Matrix3d::Identity()));
+  const Matrix6d C = voigt_elastic_constants(Eigen::Matrix3d::Identity(),
+                                             cb.evaluate(Eigen::Matrix3d::Identity()));
   if (full) *full = C;
   return {C(0, 0), C(0, 1), C(3, 3)};
 }
@@ -115,10 +117,11 @@ void check_against_lammps(const std::string& cmds, int cells, double a, double h
   Matrix6d C;
   const Eigen::Vector3d pd = cb_constants(m.body, &C);
   const Eigen::Vector3d ref = lammps_constants(m, h);
-  std::printf("  [%s] C11 %.8g (LAMMPS %.8g), C12 %.8g (%.8g), C44 %.8g (%.8g)\n", m.pot->style().c_str(), pd[0],
-              ref[0], pd[1], ref[1], pd[2], ref[2]);
+  std::printf("  [%s] C11 %.8g (LAMMPS %.8g), C12 %.8g (%.8g), C44 %.8g (%.8g)\n",
+              m.pot->style().c_str(), pd[0], ref[0], pd[1], ref[1], pd[2], ref[2]);
   for (int i = 0; i < 3; ++i)
-    EXPECT_LT(std::abs(pd[i] - ref[i]) / std::abs(ref[i]), 5e-3) << i;  // acceptance of issue 8: 0.5%
+    EXPECT_LT(std::abs(pd[i] - ref[i]) / std::abs(ref[i]), 5e-3)
+        << i;  // acceptance of issue 8: 0.5%
   // cubic symmetry of the CB constants (exact for the perfect crystal: round-off)
   EXPECT_NEAR(C(1, 1), C(0, 0), 1e-9 * C(0, 0));
   EXPECT_NEAR(C(4, 4), C(3, 3), 1e-9 * C(0, 0));
@@ -128,13 +131,15 @@ void check_against_lammps(const std::string& cmds, int cells, double a, double h
   coarsen::GridOptions g;
   g.spacing = 0.83 * a;
   g.shift = {0.31, -0.17, 0.44};
-  const Body hom = coarsen::homogenise_on_grid(m.body, coarsen::make_kernel("cubic-bspline", 1.3 * a), g);
+  const Body hom =
+      coarsen::homogenise_on_grid(m.body, coarsen::make_kernel("cubic-bspline", 1.3 * a), g);
   const Body res = coarsen::rescale(m.body, 2.5);
   const Body both = coarsen::rescale(hom, 3.0);
   for (const Body* b : {&hom, &res, &both}) {
     const Eigen::Vector3d c = cb_constants(*b);
     // sums of the same terms in another order (and scaled by ε^d / ε^d): round-off
-    EXPECT_LT((c - pd).cwiseAbs().maxCoeff() / pd.cwiseAbs().maxCoeff(), 1e-10) << to_string(b->kind);
+    EXPECT_LT((c - pd).cwiseAbs().maxCoeff() / pd.cwiseAbs().maxCoeff(), 1e-10)
+        << to_string(b->kind);
   }
 }
 
@@ -142,7 +147,8 @@ void check_against_lammps(const std::string& cmds, int cells, double a, double h
 
 TEST(CauchyBorn, FccLennardJonesMatchesLammps) {
   // h = 1e-4: truncation O(h²) ≈ 1e-8 and round-off ≈ 1e-13·|U|/h² ≈ 1e-7 relative
-  check_against_lammps("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3, 1.5599, 1e-4);
+  check_against_lammps("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3,
+                       1.5599, 1e-4);
 }
 
 TEST(CauchyBorn, FccCopperEamMatchesLammps) {
@@ -159,7 +165,8 @@ TEST(CauchyBorn, StressAndTangentAgreeWithFiniteDifferences) {
       Eigen::Matrix3d F;
       F << 1.03, 0.02, -0.01, 0.015, 0.98, 0.025, -0.02, 0.01, 1.01;
       const CauchyBornState s = cb.evaluate(F);
-      const double step = 1e-6;  // central differences: O(step²) ≈ 1e-12 truncation, round-off ≈ 1e-10
+      const double step =
+          1e-6;  // central differences: O(step²) ≈ 1e-12 truncation, round-off ≈ 1e-10
       Eigen::Matrix3d Pfd;
       Matrix9d Afd;
       for (int r = 0; r < 9; ++r) {
@@ -173,12 +180,13 @@ TEST(CauchyBorn, StressAndTangentAgreeWithFiniteDifferences) {
       }
       const double perr = (s.P - Pfd).cwiseAbs().maxCoeff() / s.P.cwiseAbs().maxCoeff();
       const double aerr = (s.A - Afd).cwiseAbs().maxCoeff() / s.A.cwiseAbs().maxCoeff();
-      std::printf("  [%s, %s] P vs FD(W) %.2e, A vs FD(P) %.2e, major symmetry %.2e\n", m.pot->style().c_str(),
-                  std::string(to_string(b.kind)).c_str(), perr, aerr,
+      std::printf("  [%s, %s] P vs FD(W) %.2e, A vs FD(P) %.2e, major symmetry %.2e\n",
+                  m.pot->style().c_str(), std::string(to_string(b.kind)).c_str(), perr, aerr,
                   (s.A - s.A.transpose()).cwiseAbs().maxCoeff() / s.A.cwiseAbs().maxCoeff());
       EXPECT_LT(perr, 1e-6);  // issue 8 acceptance (FD accuracy ≈ 1e-9)
       EXPECT_LT(aerr, 1e-6);  // issue 8 acceptance
-      EXPECT_LT((s.A - s.A.transpose()).cwiseAbs().maxCoeff(), 1e-10 * s.A.cwiseAbs().maxCoeff());  // round-off
+      EXPECT_LT((s.A - s.A.transpose()).cwiseAbs().maxCoeff(),
+                1e-10 * s.A.cwiseAbs().maxCoeff());  // round-off
     }
   }
 }
@@ -210,7 +218,8 @@ TEST(CauchyBorn, RescaledPotentialTangentIsAnalytic) {
 }
 
 TEST(CauchyBorn, NeoHookeanFitAndCriticalStretch) {
-  const Model m = model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3, 1.5599);
+  const Model m =
+      model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3, 1.5599);
   const CauchyBorn cb(m.body);
   Matrix6d C;
   cb_constants(m.body, &C);
@@ -223,8 +232,10 @@ TEST(CauchyBorn, NeoHookeanFitAndCriticalStretch) {
   EXPECT_NEAR(fk.bulk, mod.bulk_voigt, 5e-3 * mod.bulk_voigt);
   // a cubic crystal is not isotropic: the full fit has a visible error (reported, not zero)
   const auto full = fit_neo_hookean(cb, fit_deformations(3, 1.2, 4));
-  std::printf("  3D FCC LJ neo-Hookean (λ ≤ 1.2): μ %.5g K %.5g rel.err %.3g (C: K %.5g, G_V %.5g, G_R %.5g)\n",
-              full.mu, full.bulk, full.relative_error, mod.bulk_voigt, mod.shear_voigt, mod.shear_reuss);
+  std::printf(
+      "  3D FCC LJ neo-Hookean (λ ≤ 1.2): μ %.5g K %.5g rel.err %.3g (C: K %.5g, G_V %.5g, G_R "
+      "%.5g)\n",
+      full.mu, full.bulk, full.relative_error, mod.bulk_voigt, mod.shear_voigt, mod.shear_reuss);
   EXPECT_GT(full.relative_error, 0.0);
 
   const double infl = pair_inflection_stretch(*m.pot, 1, 1);
@@ -233,8 +244,10 @@ TEST(CauchyBorn, NeoHookeanFitAndCriticalStretch) {
   const double lc = uniaxial_peak_stretch(cb, Eigen::Vector3d(1, 0, 0));
   std::printf("  LJ bond inflection stretch %.6f, CB uniaxial [100] peak stretch %.6f\n", infl, lc);
   EXPECT_GT(lc, 1.0);
-  EXPECT_THROW(pair_inflection_stretch(*model("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 2, 3.615).pot, 1, 1),
-               InputError);
+  EXPECT_THROW(
+      pair_inflection_stretch(
+          *model("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 2, 3.615).pot, 1, 1),
+      InputError);
 }
 
 TEST(CauchyBorn, TriangularSheetPlaneStrainIsNeoHookeanAtSmallStrain) {
@@ -258,19 +271,23 @@ TEST(CauchyBorn, TriangularSheetPlaneStrainIsNeoHookeanAtSmallStrain) {
   const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
   const Body b = make_delta_body(at, pot, spec, {.dimension = 2, .cutoff = 0.0, .source = "tri"});
   const CauchyBorn cb(b);
-  const Matrix6d C = voigt_elastic_constants(Eigen::Matrix3d::Identity(), cb.evaluate(Eigen::Matrix3d::Identity()));
+  const Matrix6d C = voigt_elastic_constants(Eigen::Matrix3d::Identity(),
+                                             cb.evaluate(Eigen::Matrix3d::Identity()));
   EXPECT_NEAR(C(0, 0), C(1, 1), 1e-9 * C(0, 0));      // isotropy (round-off)
   EXPECT_NEAR(C(0, 0), 3 * C(0, 1), 1e-9 * C(0, 0));  // Cauchy relation + isotropy (round-off)
   EXPECT_NEAR(C(5, 5), C(0, 1), 1e-9 * C(0, 0));
   const auto fit = fit_neo_hookean(cb, fit_deformations(2, 1.0002, 2));
   const double mu = C(5, 5), K = C(0, 1) + 2 * mu / 3;
-  std::printf("  triangular LJ: C11 %.6g C12 %.6g C66 %.6g; fit μ %.6g (%.6g) K %.6g (%.6g), rel.err %.2e\n",
-              C(0, 0), C(0, 1), C(5, 5), fit.mu, mu, fit.bulk, K, fit.relative_error);
+  std::printf(
+      "  triangular LJ: C11 %.6g C12 %.6g C66 %.6g; fit μ %.6g (%.6g) K %.6g (%.6g), rel.err "
+      "%.2e\n",
+      C(0, 0), C(0, 1), C(5, 5), fit.mu, mu, fit.bulk, K, fit.relative_error);
   EXPECT_NEAR(fit.mu, mu, 2e-3 * mu);  // O(strain) = 2e-4 higher-order terms, with margin
   EXPECT_NEAR(fit.bulk, K, 2e-3 * K);
   EXPECT_LT(fit.relative_error, 1e-2);
   const auto big = fit_neo_hookean(cb, fit_deformations(2, 1.1, 5));
-  std::printf("  triangular LJ, λ ≤ 1.1: μ %.6g K %.6g rel.err %.3g\n", big.mu, big.bulk, big.relative_error);
+  std::printf("  triangular LJ, λ ≤ 1.1: μ %.6g K %.6g rel.err %.3g\n", big.mu, big.bulk,
+              big.relative_error);
 }
 
 TEST(CauchyBorn, SolverMaterialAdapterAndEnvironmentClasses) {
@@ -288,7 +305,8 @@ TEST(CauchyBorn, SolverMaterialAdapterAndEnvironmentClasses) {
   // every atom evaluated (a perturbed copy has N environments): same W, P, A to round-off
   Atoms pert = m.atoms;
   pert.x[0] += 1e-3;
-  const Body bp = make_delta_body(pert, m.pot, m.spec, {.dimension = 3, .cutoff = 0.0, .source = "p"});
+  const Body bp =
+      make_delta_body(pert, m.pot, m.spec, {.dimension = 3, .cutoff = 0.0, .source = "p"});
   const CauchyBorn cbp(bp);
   EXPECT_GT(cbp.environments(), 1u);
   const CauchyBornState s = CauchyBorn(m.body).evaluate(F);
