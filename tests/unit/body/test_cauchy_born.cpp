@@ -146,12 +146,14 @@ void check_against_lammps(const std::string& cmds, int cells, double a, double h
 }  // namespace
 
 TEST(CauchyBorn, FccLennardJonesMatchesLammps) {
+  if (!atomistic::lammps_available()) GTEST_SKIP() << "embedded LAMMPS not enabled";
   // h = 1e-4: truncation O(h²) ≈ 1e-8 and round-off ≈ 1e-13·|U|/h² ≈ 1e-7 relative
   check_against_lammps("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3,
                        1.5599, 1e-4);
 }
 
 TEST(CauchyBorn, FccCopperEamMatchesLammps) {
+  if (!atomistic::lammps_available()) GTEST_SKIP() << "embedded LAMMPS not enabled";
   check_against_lammps("units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n", 3, 3.615, 1e-4);
 }
 
