@@ -52,24 +52,11 @@ inline FrameRange parse_frames(const std::optional<std::int64_t>& frame, const s
     r.first = fix(*frame);
     r.last = r.first + 1;
   } else if (!frames.empty()) {
-    std::vector<std::string> parts;
-    std::string cur;
-    for (char c : frames) {
-      if (c == ':') {
-        parts.push_back(cur);
-        cur.clear();
-      } else {
-        cur.push_back(c);
-      }
-    }
-    parts.push_back(cur);
-    if (parts.size() < 2 || parts.size() > 3)
-      throw InputError("bad frame range").source("--frames").value(frames).expected("A:B or A:B:S");
-    r.first = parts[0].empty() ? 0 : fix(parse_int(parts[0], {"--frames", 0, "A"}));
-    r.last = parts[1].empty() ? nframes : fix(parse_int(parts[1], {"--frames", 0, "B"}));
-    if (parts.size() == 3) r.step = parse_int(parts[2], {"--frames", 0, "S"});
-    if (r.step < 1)
-      throw InputError("frame step must be positive").source("--frames").value(frames);
+    // The one frame-range syntax of pdcg (docs/cli.md): A:B[:S], B inclusive.
+    const auto fr = pdcg::parse_frame_range(frames, static_cast<std::size_t>(nframes), "--frames");
+    r.first = static_cast<std::int64_t>(fr.first);
+    r.last = static_cast<std::int64_t>(fr.last) + 1;
+    r.step = static_cast<std::int64_t>(fr.stride);
   }
   if (r.first < 0 || r.first >= nframes || r.last > nframes || r.last <= r.first)
     throw InputError("frame range out of bounds")

@@ -153,7 +153,7 @@ pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("--frame", o->frame,
                   "Frame of a dump (0-based; negative from the end; default 0)");
   sub->add_option("--frames", o->frames,
-                  "Frame range A:B[:S] (B exclusive) for statistical densities");
+                  "Frames A:B[:S] for statistical densities (B inclusive, 0-based, negative from the end)");
   sub->add_option("--potential", o->potential, "LAMMPS commands defining the interaction")
       ->required();
   sub->add_option("--density", o->density, "delta | statistical (default delta)");
@@ -171,7 +171,7 @@ pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->footer(
       "Examples:\n  pdcg atoms2pd --input dump.lammpstrj --frame 0 --potential lj.in --density "
       "delta -o body.h5\n"
-      "  pdcg atoms2pd --input dump.lammpstrj --frames 10:60 --potential lj.in --density "
+      "  pdcg atoms2pd --input dump.lammpstrj --frames 10:59 --potential lj.in --density "
       "statistical --order 4 -o stat.h5");
   return [o] { return run(*o); };
 });

@@ -241,7 +241,7 @@ TEST_F(BodyCli, HomogenizeRescaleStatisticalAndBadInput) {
       << r.out;
   EXPECT_TRUE(pdcg::test::close(w1, w0, {0, 1e-12}));  // W_ε(F) = W(F), round-off
   // statistical body from two frames, empirical: energy = mean of the two frames' energies
-  r = cli("atoms2pd --input " + p("dump.tri") + " --frames 0:2 --potential " + p("pot.lj") +
+  r = cli("atoms2pd --input " + p("dump.tri") + " --frames 0:1 --potential " + p("pot.lj") +
           " --density statistical --statistics empirical --family-cutoff 2.8 -o " + p("s.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto ref = read_dump(dir / "dump.tri");
