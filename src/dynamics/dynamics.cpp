@@ -63,14 +63,29 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
       st.bond = bonds.data() + 3 * b0;
       st.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
       st.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
-      pot.force_state_tangent(st, K.data(), work.data());
+      if (pot.pairwise()) {
+        // ψ_k = ½ Σ_j φ(r_kj): t_kj depends on Y_kj alone, A_jm = 0 for j ≠ m, and the
+        // diagonal block is the tangent of the one-bond family {j} (O(n) instead of O(n²)).
+        for (size_t j = 0; j < nm; ++j) {
+          atomistic::FamilyState one = st;
+          one.size = 1;
+          one.neighbor_type = ntype.data() + j;
+          one.bond = st.bond + 3 * j;
+          if (st.pair_factor) one.pair_factor = st.pair_factor + j;
+          if (st.bond_type) one.bond_type = st.bond_type + j;
+          pot.force_state_tangent(one, K.data() + (j * nm + j) * 9, work.data());
+        }
+      } else {
+        pot.force_state_tangent(st, K.data(), work.data());
+      }
       // sumj[m] = Σ_j A_jm (column sums), summ[j] = Σ_m A_jm (row sums), 3×3 each.
       std::fill(sumj.begin(), sumj.begin() + 9 * static_cast<std::ptrdiff_t>(nm), 0.0);
       std::fill(summ.begin(), summ.begin() + 9 * static_cast<std::ptrdiff_t>(nm), 0.0);
       std::fill(rowk.begin(), rowk.end(), 0.0);
       double kk[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+      const bool diagonal = pot.pairwise();  // only blocks j = m were written
       for (size_t j = 0; j < nm; ++j)
-        for (size_t mm = 0; mm < nm; ++mm) {
+        for (size_t mm = diagonal ? j : 0; mm < (diagonal ? j + 1 : nm); ++mm) {
           const double* A = K.data() + (j * nm + mm) * 9;
           for (int c = 0; c < 9; ++c) {
             sumj[mm * 9 + static_cast<size_t>(c)] += A[c];
@@ -83,7 +98,7 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
         const size_t dof = 3 * static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j]);
         for (int a = 0; a < 3; ++a) {
           double s = 0.0;
-          for (size_t mm = 0; mm < nm; ++mm) {
+          for (size_t mm = diagonal ? j : 0; mm < (diagonal ? j + 1 : nm); ++mm) {
             const double* A = K.data() + (j * nm + mm) * 9;
             s += std::abs(A[3 * a]) + std::abs(A[3 * a + 1]) + std::abs(A[3 * a + 2]);
           }
