@@ -7,6 +7,8 @@
 #include <limits>
 #include <random>
 
+#include <omp.h>
+
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/atomic_output.hpp"
 
@@ -227,10 +229,96 @@ VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0, s
   inv_mass_.resize(n);
   for (size_t k = 0; k < n; ++k) inv_mass_[k] = 1.0 / body.mass[k];
   f_.resize(3 * n);
+  half_ = body.potential->pairwise() && !body.statistics;
+  if (half_) setup_pairwise();
   evaluate();
 }
 
+void VelocityVerlet::setup_pairwise() {
+  const auto& fam = body_.families;
+  const size_t n = body_.size();
+  half_offset_.assign(n + 1, 0);
+  std::int64_t widest = 0;
+  for (size_t k = 0; k < n; ++k) {
+    for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
+      const auto ub = static_cast<size_t>(b);
+      const auto j = static_cast<size_t>(fam.neighbor[ub]);
+      if (!(j > k || (j == k && fam.reverse[ub] > b))) continue;  // the other half holds it
+      half_neighbor_.push_back(fam.neighbor[ub]);
+      half_type_.push_back(body_.type[j]);
+      const Eigen::Vector3d s = fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
+      half_shift_.insert(half_shift_.end(), {s[0], s[1], s[2]});
+      if (!fam.pair_factor.empty()) half_factor_.push_back(fam.pair_factor[ub]);
+      if (!fam.bond_type.empty()) half_bond_type_.push_back(fam.bond_type[ub]);
+    }
+    half_offset_[k + 1] = static_cast<std::int64_t>(half_neighbor_.size());
+    widest = std::max(widest, half_offset_[k + 1] - half_offset_[k]);
+  }
+  const int threads = omp_get_max_threads();
+  thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * n));
+  thread_y_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  thread_t_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+}
+
+void VelocityVerlet::evaluate_pairwise() {
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const auto& pot = *body_.potential;
+  const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
+  double energy = 0.0;
+  const double* y = y_.data();
+#pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
+  {
+    const auto tid = static_cast<size_t>(omp_get_thread_num());
+    double* f = thread_f_[tid].data();
+    double* Y = thread_y_[tid].data();
+    double* t = thread_t_[tid].data();
+    std::fill(f, f + 3 * n, 0.0);
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      const auto b0 = half_offset_[static_cast<size_t>(k)];
+      const auto m = half_offset_[static_cast<size_t>(k) + 1] - b0;
+      if (m == 0) continue;
+      const double* yk = y + 3 * k;
+      for (std::int64_t q = 0; q < m; ++q) {
+        const auto b = static_cast<size_t>(b0 + q);
+        const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
+        for (int a = 0; a < 3; ++a) Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
+      }
+      atomistic::FamilyState st;
+      st.type = body_.type[static_cast<size_t>(k)];
+      st.size = m;
+      st.neighbor_type = half_type_.data() + b0;
+      st.bond = Y;
+      st.pair_factor = half_factor_.empty() ? nullptr : half_factor_.data() + b0;
+      st.bond_type = half_bond_type_.empty() ? nullptr : half_bond_type_.data() + b0;
+      energy += 2.0 * pot.force_state(st, t);
+      double fk[3] = {0.0, 0.0, 0.0};
+      for (std::int64_t q = 0; q < m; ++q) {
+        double* fj = f + 3 * static_cast<std::int64_t>(half_neighbor_[static_cast<size_t>(b0 + q)]);
+        for (int a = 0; a < 3; ++a) {
+          fk[a] += 2.0 * t[3 * q + a];
+          fj[a] -= 2.0 * t[3 * q + a];
+        }
+      }
+      for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
+    }
+    // reduce the thread copies (each thread a slice of the dofs)
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < 3 * n; ++i) {
+      double s = 0.0;
+      for (int th = 0; th < nthreads; ++th) s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+      f_[static_cast<size_t>(i)] = s;
+    }
+  }
+  potential_ = energy;
+}
+
 void VelocityVerlet::evaluate() {
+  if (half_) {
+    evaluate_pairwise();
+    return;
+  }
   const auto e = ev_.deformed(y_);
   potential_ = e.energy;
   std::copy(e.forces.begin(), e.forces.end(), f_.begin());
@@ -251,18 +339,13 @@ void VelocityVerlet::step() {
       y[a] += dtv * v[a];
     }
   }
-  // forces at the new positions (Evaluator: no allocation after the first call)
-  const auto e = ev_.deformed(y_);
-  potential_ = e.energy;
-  const double* fn = e.forces.data();
-  double* fo = f_.data();
+  // forces at the new positions (no allocation after the first call)
+  evaluate();
+  const double* fn = f_.data();
 #pragma omp parallel for schedule(static) if (n > 2048)
   for (std::int64_t k = 0; k < n; ++k) {
     const double s = dtf * im[k];
-    for (std::int64_t a = 3 * k; a < 3 * k + 3; ++a) {
-      fo[a] = fn[a];
-      v[a] += s * fn[a];
-    }
+    for (std::int64_t a = 3 * k; a < 3 * k + 3; ++a) v[a] += s * fn[a];
   }
   ++step_;
 }

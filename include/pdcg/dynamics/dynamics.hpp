@@ -88,7 +88,17 @@ class VelocityVerlet {
 
  private:
   void evaluate();
+  void evaluate_pairwise();
+  void setup_pairwise();
   const body::Body& body_;
+  /// Pairwise potentials (ψ_k = ½Σφ, t_jk(−Y) = −t_kj(Y)): each pair once through a half
+  /// family (f_k += 2t_kj, f_j −= 2t_kj, energy 2ψ_half) instead of both bonds and a gather.
+  bool half_ = false;
+  std::vector<std::int64_t> half_offset_;
+  std::vector<std::int32_t> half_neighbor_;
+  std::vector<int> half_type_, half_bond_type_;
+  std::vector<double> half_shift_, half_factor_;  ///< H n_b per half bond; pair factors
+  std::vector<std::vector<double>> thread_f_, thread_y_, thread_t_;
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;
