@@ -1,7 +1,6 @@
 #include "pdcg/body/body.hpp"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -13,10 +12,14 @@ namespace pdcg::body {
 
 std::string_view to_string(BodyKind kind) {
   switch (kind) {
-    case BodyKind::delta: return "delta";
-    case BodyKind::statistical: return "statistical";
-    case BodyKind::homogenised: return "homogenised";
-    case BodyKind::rescaled: return "rescaled";
+    case BodyKind::delta:
+      return "delta";
+    case BodyKind::statistical:
+      return "statistical";
+    case BodyKind::homogenised:
+      return "homogenised";
+    case BodyKind::rescaled:
+      return "rescaled";
   }
   return "delta";
 }
@@ -37,22 +40,29 @@ BodyKind parse_body_kind(std::string_view name, std::string_view where) {
 double Body::reference_volume() const {
   const Eigen::Matrix3d H = box.h();
   switch (dimension) {
-    case 1: return H.col(0).norm();
-    case 2: return H.col(0).cross(H.col(1)).norm();
-    default: return std::abs(H.determinant());
+    case 1:
+      return H.col(0).norm();
+    case 2:
+      return H.col(0).cross(H.col(1)).norm();
+    default:
+      return std::abs(H.determinant());
   }
 }
 
-Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const atomistic::Potential> potential,
+Body make_delta_body(const atomistic::Atoms& atoms_in,
+                     std::shared_ptr<const atomistic::Potential> potential,
                      atomistic::PotentialSpec spec, const DeltaBodyOptions& options) {
-  if (!potential) throw InputError("no potential given").key("potential").fix("give a potential file");
+  if (!potential)
+    throw InputError("no potential given").key("potential").fix("give a potential file");
   if (options.dimension < 1 || options.dimension > 3)
     throw InputError("body dimension out of range")
         .key("dimension")
         .value(std::to_string(options.dimension))
         .expected("1, 2 or 3");
   if (atoms_in.size() == 0)
-    throw InputError("the configuration has no atoms").source(options.source).fix("check the input file");
+    throw InputError("the configuration has no atoms")
+        .source(options.source)
+        .fix("check the input file");
   atomistic::Atoms atoms = atoms_in;
   atomistic::sort_by_id(atoms, options.source);
   if (atoms.type.empty())
@@ -63,7 +73,8 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
         .fix("dump with `dump ... custom ... id type x y z`");
   // Masses: the configuration's own, else the potential file's `mass` commands.
   if (atoms.mass.empty()) {
-    if (atoms.type_mass.size() < spec.type_mass.size()) atoms.type_mass.resize(spec.type_mass.size(), NAN);
+    if (atoms.type_mass.size() < spec.type_mass.size())
+      atoms.type_mass.resize(spec.type_mass.size(), NAN);
     for (std::size_t t = 1; t < spec.type_mass.size(); ++t)
       if (std::isnan(atoms.type_mass[t])) atoms.type_mass[t] = spec.type_mass[t];
   }
@@ -91,15 +102,18 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
           .source(options.source)
           .key("type of atom id " + std::to_string(atoms.id[i]))
           .value(std::to_string(t))
-          .expected("a type in 1.." + std::to_string(ntypes) + " (the potential " + potential->style() +
-                    " defines " + std::to_string(ntypes) + ")")
-          .fix("use the potential written for this configuration, or add pair_coeff lines for type " +
-               std::to_string(t));
+          .expected("a type in 1.." + std::to_string(ntypes) + " (the potential " +
+                    potential->style() + " defines " + std::to_string(ntypes) + ")")
+          .fix(
+              "use the potential written for this configuration, or add pair_coeff lines for "
+              "type " +
+              std::to_string(t));
     const double m = atoms.mass_of(i);
     if (!(m > 0.0) || !std::isfinite(m))
       throw InputError("atom has no (positive) mass")
           .source(options.source)
-          .key("mass of type " + std::to_string(t) + " (atom id " + std::to_string(atoms.id[i]) + ")")
+          .key("mass of type " + std::to_string(t) + " (atom id " + std::to_string(atoms.id[i]) +
+               ")")
           .value(std::isnan(m) ? "missing" : std::to_string(m))
           .expected("a positive mass from the data file's Masses section or a `mass` command")
           .fix("add `mass " + std::to_string(t) + " <value>` to the potential file");
@@ -107,7 +121,8 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
   }
   atomistic::FamilyOptions fo;
   fo.cutoff = options.cutoff > 0.0 ? options.cutoff : potential->cutoff();
-  if (!(fo.cutoff > 0.0) && !atoms.bonds.empty()) fo.cutoff = 1e-9 * atoms.box.lengths().maxCoeff();  // bonds only
+  if (!(fo.cutoff > 0.0) && !atoms.bonds.empty())
+    fo.cutoff = 1e-9 * atoms.box.lengths().maxCoeff();  // bonds only
   if (!atoms.bonds.empty()) {
     fo.molecular_bonds = &atoms.bonds;
     fo.special_lj = spec.special_lj;
@@ -118,7 +133,8 @@ Body make_delta_body(const atomistic::Atoms& atoms_in, std::shared_ptr<const ato
   body.base_potential = potential;
   if (spec.ntypes == 0) spec.ntypes = ntypes;
   body.potential_spec = std::move(spec);
-  body.provenance.push_back("delta body from " + (options.source.empty() ? std::string("atoms") : options.source) +
+  body.provenance.push_back("delta body from " +
+                            (options.source.empty() ? std::string("atoms") : options.source) +
                             " with " + potential->style());
   return body;
 }
@@ -131,7 +147,10 @@ namespace {
 class RescaledPotential final : public atomistic::Potential {
  public:
   RescaledPotential(std::shared_ptr<const atomistic::Potential> base, double eps, int d)
-      : base_(std::move(base)), eps_(eps), psi_scale_(std::pow(eps, d)), t_scale_(std::pow(eps, d - 1)) {}
+      : base_(std::move(base)),
+        eps_(eps),
+        psi_scale_(std::pow(eps, d)),
+        t_scale_(std::pow(eps, d - 1)) {}
   std::string style() const override { return base_->style(); }
   double cutoff() const override { return eps_ * base_->cutoff(); }
   int ntypes() const override { return base_->ntypes(); }
@@ -157,8 +176,8 @@ class RescaledPotential final : public atomistic::Potential {
 
 }  // namespace
 
-std::shared_ptr<const atomistic::Potential> rescaled_potential(std::shared_ptr<const atomistic::Potential> base,
-                                                               double epsilon, int dimension) {
+std::shared_ptr<const atomistic::Potential> rescaled_potential(
+    std::shared_ptr<const atomistic::Potential> base, double epsilon, int dimension) {
   if (!(epsilon > 0.0) || !std::isfinite(epsilon))
     throw InputError("rescaling factor must be positive")
         .key("factor")
@@ -173,19 +192,24 @@ std::shared_ptr<const atomistic::Potential> rescaled_potential(std::shared_ptr<c
 // Evaluator
 
 Evaluator::Evaluator(const Body& body) : body_(body) {
-  if (!body.potential) throw InputError("body has no potential").fix("build the body with a potential");
+  if (!body.potential)
+    throw InputError("body has no potential").fix("build the body with a potential");
   const std::size_t n = body.size(), nb = body.families.bonds();
   y_.resize(3 * n);
   bonds_.resize(3 * nb);
   t_.resize(3 * nb);
   psi_.resize(n);
   f_.resize(3 * n);
+  ntype_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b)
+    ntype_[b] = body.type[static_cast<std::size_t>(body.families.neighbor[b])];
   scratch_ = std::make_unique<detail::Scratch>();
 }
 
 Evaluator::~Evaluator() = default;
 
-Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G) {
+Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
+                          const Eigen::Matrix3d& G) {
   const auto& fam = body_.families;
   if (y.size() != 3 * body_.size())
     throw InputError("deformed configuration has the wrong number of atoms")
@@ -195,9 +219,28 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
   atomistic::deformed_bonds(fam, y, h_y, bonds_);
   Evaluation e;
   if (body_.statistics) {
-    e.energy = detail::statistical_force_states(body_, *body_.statistics, y, h_y, G, bonds_, psi_, t_, *scratch_);
+    e.energy = detail::statistical_force_states(body_, *body_.statistics, y, h_y, G, bonds_, psi_,
+                                                t_, *scratch_);
   } else {
-    e.energy = atomistic::force_states(*body_.potential, fam, body_.type, bonds_, psi_, t_);
+    // ψ_k and t_b per atom (atomistic::force_states without its per-call type buffer: the
+    // partner types are cached once in the constructor, so this loop allocates nothing)
+    const auto& pot = *body_.potential;
+    double total = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : total)
+    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body_.size()); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      const auto b0 = static_cast<std::size_t>(fam.offset[i]);
+      atomistic::FamilyState f;
+      f.type = body_.type[i];
+      f.size = fam.offset[i + 1] - fam.offset[i];
+      f.neighbor_type = ntype_.data() + b0;
+      f.bond = bonds_.data() + 3 * b0;
+      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      psi_[i] = pot.force_state(f, t_.data() + 3 * b0);
+      total += psi_[i];
+    }
+    e.energy = total;
   }
   atomistic::pd_forces(fam, t_, f_);
   e.psi = psi_;
@@ -234,8 +277,10 @@ std::vector<double> Evaluator::point_energies() const {
 #pragma omp parallel for schedule(static)
   for (std::int64_t p = 0; p < static_cast<std::int64_t>(h.size()); ++p) {
     double s = 0.0;
-    for (auto c = h.offset[static_cast<std::size_t>(p)]; c < h.offset[static_cast<std::size_t>(p) + 1]; ++c)
-      s += h.weight[static_cast<std::size_t>(c)] * psi_[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])];
+    for (auto c = h.offset[static_cast<std::size_t>(p)];
+         c < h.offset[static_cast<std::size_t>(p) + 1]; ++c)
+      s += h.weight[static_cast<std::size_t>(c)] *
+           psi_[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])];
     e[static_cast<std::size_t>(p)] = s;
   }
   return e;

@@ -1,7 +1,6 @@
 #include "pdcg/body/model_file.hpp"
 
 #include <fmt/format.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -11,9 +10,8 @@
 
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
-#include "pdcg/core/parse.hpp"
-
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/parse.hpp"
 #include "pdcg/io/hdf5.hpp"
 
 namespace pdcg::body {
@@ -21,7 +19,9 @@ namespace pdcg::body {
 namespace {
 
 std::vector<std::int64_t> to64(const std::vector<int>& v) { return {v.begin(), v.end()}; }
-std::vector<std::int64_t> to64(const std::vector<std::int32_t>& v, int) { return {v.begin(), v.end()}; }
+std::vector<std::int64_t> to64(const std::vector<std::int32_t>& v, int) {
+  return {v.begin(), v.end()};
+}
 
 template <class T>
 std::vector<T> narrow(const std::vector<std::int64_t>& v) {
@@ -55,16 +55,18 @@ std::vector<EmbeddedFile> embed_potential_files(const atomistic::PotentialSpec& 
   return out;
 }
 
-std::shared_ptr<const atomistic::Potential> potential_from_commands(const atomistic::PotentialSpec& stored,
-                                                                    const std::vector<EmbeddedFile>& files) {
+std::shared_ptr<const atomistic::Potential> potential_from_commands(
+    const atomistic::PotentialSpec& stored, const std::vector<EmbeddedFile>& files) {
   std::vector<std::string> lines = stored.lines;
   std::filesystem::path dir;
   if (!files.empty()) {
-    dir = std::filesystem::temp_directory_path() /
-          fmt::format("pdcg-potential-{}-{}", static_cast<long>(::getpid()), static_cast<const void*>(&files));
+    dir = std::filesystem::temp_directory_path() / fmt::format("pdcg-potential-{}-{}",
+                                                               static_cast<long>(::getpid()),
+                                                               static_cast<const void*>(&files));
     std::filesystem::create_directories(dir);
     for (std::size_t k = 0; k < files.size(); ++k) {
-      const auto target = dir / fmt::format("{}_{}", k, std::filesystem::path(files[k].name).filename().string());
+      const auto target =
+          dir / fmt::format("{}_{}", k, std::filesystem::path(files[k].name).filename().string());
       {
         std::ofstream out(target, std::ios::binary);
         out << files[k].contents;
@@ -88,8 +90,8 @@ std::shared_ptr<const atomistic::Potential> potential_from_commands(const atomis
   for (const auto& l : lines) text += l + "\n";
   std::shared_ptr<const atomistic::Potential> pot;
   try {
-    atomistic::PotentialSpec spec =
-        atomistic::read_potential_commands_from_string(text, stored.source.empty() ? "model file" : stored.source, stored.ntypes);
+    atomistic::PotentialSpec spec = atomistic::read_potential_commands_from_string(
+        text, stored.source.empty() ? "model file" : stored.source, stored.ntypes);
     pot = atomistic::make_potential(spec);
   } catch (...) {
     if (!dir.empty()) std::filesystem::remove_all(dir);
@@ -119,7 +121,8 @@ void write_body(const Body& b, const std::filesystem::path& path) {
   w.write("box/lo", std::vector<double>{b.box.lo[0], b.box.lo[1], b.box.lo[2]});
   w.write("box/hi", std::vector<double>{b.box.hi[0], b.box.hi[1], b.box.hi[2]});
   w.write("box/tilt", std::vector<double>{b.box.xy, b.box.xz, b.box.yz});
-  w.write("box/periodic", std::vector<std::int64_t>{b.box.periodic[0], b.box.periodic[1], b.box.periodic[2]});
+  w.write("box/periodic",
+          std::vector<std::int64_t>{b.box.periodic[0], b.box.periodic[1], b.box.periodic[2]});
   w.attribute("/box", "reference_volume", b.reference_volume());
   // atomic layer
   w.write("points/id", b.id);
@@ -149,7 +152,8 @@ void write_body(const Body& b, const std::filesystem::path& path) {
   w.attribute("/potential", "cutoff", b.base_potential ? b.base_potential->cutoff() : 0.0);
   if (!s.type_mass.empty()) w.write("potential/type_mass", s.type_mass);
   w.write("potential/special_lj", std::vector<double>(s.special_lj.begin(), s.special_lj.end()));
-  w.write("potential/special_coul", std::vector<double>(s.special_coul.begin(), s.special_coul.end()));
+  w.write("potential/special_coul",
+          std::vector<double>(s.special_coul.begin(), s.special_coul.end()));
   if (!b.potential_files.empty()) {
     std::vector<std::string> names, contents;
     for (const auto& e : b.potential_files) {
@@ -162,8 +166,10 @@ void write_body(const Body& b, const std::filesystem::path& path) {
   // statistics
   if (b.statistics) {
     const auto& st = *b.statistics;
-    w.attribute("/statistics", "form", st.form == Statistics::Form::gaussian ? "gaussian" : "empirical");
-    w.attribute("/statistics", "method", st.method == Statistics::Method::cubature ? "cubature" : "sampling");
+    w.attribute("/statistics", "form",
+                st.form == Statistics::Form::gaussian ? "gaussian" : "empirical");
+    w.attribute("/statistics", "method",
+                st.method == Statistics::Method::cubature ? "cubature" : "sampling");
     w.attribute("/statistics", "order", static_cast<std::int64_t>(st.order));
     w.attribute("/statistics", "samples", st.samples);
     w.attribute("/statistics", "seed", static_cast<std::int64_t>(st.seed));
@@ -183,7 +189,8 @@ void write_body(const Body& b, const std::filesystem::path& path) {
     w.write("homogenisation/volume", hm.volume);
     w.write("homogenisation/mass", hm.mass);
     std::vector<double> rho(np);
-    for (std::size_t p = 0; p < np; ++p) rho[p] = hm.volume[p] > 0 ? hm.mass[p] / hm.volume[p] : 0.0;
+    for (std::size_t p = 0; p < np; ++p)
+      rho[p] = hm.volume[p] > 0 ? hm.mass[p] / hm.volume[p] : 0.0;
     w.write("homogenisation/density", rho);
     w.write("homogenisation/offset", hm.offset);
     w.write("homogenisation/atom", to64(hm.atom, 0));
@@ -217,18 +224,21 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   b.kind = parse_body_kind(r.attribute_string("/", "kind"), src);
   b.dimension = static_cast<int>(r.attribute_int("/", "dimension"));
   b.epsilon = r.attribute_double("/", "epsilon");
-  for (auto item : {"box/lo", "box/hi", "box/tilt", "box/periodic", "points/id", "points/type", "points/x",
-                    "points/mass", "families/offset", "families/neighbor", "families/shift", "families/xi",
-                    "families/reverse", "families/h", "potential/lines"})
+  for (auto item :
+       {"box/lo", "box/hi", "box/tilt", "box/periodic", "points/id", "points/type", "points/x",
+        "points/mass", "families/offset", "families/neighbor", "families/shift", "families/xi",
+        "families/reverse", "families/h", "potential/lines"})
     need(item);
-  const auto lo = r.read_double("box/lo"), hi = r.read_double("box/hi"), tilt = r.read_double("box/tilt");
+  const auto lo = r.read_double("box/lo"), hi = r.read_double("box/hi"),
+             tilt = r.read_double("box/tilt");
   const auto per = r.read_int("box/periodic");
   b.box.lo = {lo[0], lo[1], lo[2]};
   b.box.hi = {hi[0], hi[1], hi[2]};
   b.box.xy = tilt[0];
   b.box.xz = tilt[1];
   b.box.yz = tilt[2];
-  for (int k = 0; k < 3; ++k) b.box.periodic[static_cast<std::size_t>(k)] = per[static_cast<std::size_t>(k)] != 0;
+  for (int k = 0; k < 3; ++k)
+    b.box.periodic[static_cast<std::size_t>(k)] = per[static_cast<std::size_t>(k)] != 0;
   b.id = r.read_int("points/id");
   b.type = narrow<int>(r.read_int("points/type"));
   b.x = r.read_double("points/x");
@@ -238,8 +248,8 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
     throw InputError("point arrays of different lengths")
         .source(src)
         .key("points")
-        .value(fmt::format("{} ids, {} types, {} positions, {} masses", n, b.type.size(), b.x.size() / 3,
-                           b.mass.size()))
+        .value(fmt::format("{} ids, {} types, {} positions, {} masses", n, b.type.size(),
+                           b.x.size() / 3, b.mass.size()))
         .expected("one entry per point");
   auto& f = b.families;
   f.offset = r.read_int("families/offset");
@@ -254,8 +264,8 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
     for (int j = 0; j < 3; ++j) f.h(i, j) = hv[static_cast<std::size_t>(3 * i + j)];
   b.base_horizon = r.attribute_double("/families", "base_horizon");
   const std::size_t nb = f.neighbor.size();
-  if (f.offset.size() != n + 1 || static_cast<std::size_t>(f.offset.back()) != nb || f.shift.size() != 3 * nb ||
-      f.xi.size() != 3 * nb || f.reverse.size() != nb)
+  if (f.offset.size() != n + 1 || static_cast<std::size_t>(f.offset.back()) != nb ||
+      f.shift.size() != 3 * nb || f.xi.size() != 3 * nb || f.reverse.size() != nb)
     throw InputError("families are inconsistent with the points")
         .source(src)
         .key("families")
@@ -264,7 +274,10 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   for (std::size_t k = 0; k < nb; ++k)
     if (f.neighbor[k] < 0 || static_cast<std::size_t>(f.neighbor[k]) >= n || f.reverse[k] < 0 ||
         static_cast<std::size_t>(f.reverse[k]) >= nb)
-      throw InputError("family bond points outside the body").source(src).key("families/neighbor").value(std::to_string(k));
+      throw InputError("family bond points outside the body")
+          .source(src)
+          .key("families/neighbor")
+          .value(std::to_string(k));
   // potential spec
   auto& s = b.potential_spec;
   s.lines = r.read_strings("potential/lines");
@@ -274,22 +287,26 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   s.atom_style = r.attribute_string("/potential", "atom_style");
   s.ntypes = static_cast<int>(r.attribute_int("/potential", "ntypes"));
   if (r.exists("potential/type_mass")) s.type_mass = r.read_double("potential/type_mass");
-  const auto sl = r.read_double("potential/special_lj"), sc = r.read_double("potential/special_coul");
+  const auto sl = r.read_double("potential/special_lj"),
+             sc = r.read_double("potential/special_coul");
   for (std::size_t k = 0; k < 3; ++k) {
     s.special_lj[k] = sl[k];
     s.special_coul[k] = sc[k];
   }
   if (r.exists("potential/file_names")) {
-    const auto names = r.read_strings("potential/file_names"), contents = r.read_strings("potential/file_contents");
-    for (std::size_t k = 0; k < names.size(); ++k) b.potential_files.push_back({names[k], contents.at(k)});
+    const auto names = r.read_strings("potential/file_names"),
+               contents = r.read_strings("potential/file_contents");
+    for (std::size_t k = 0; k < names.size(); ++k)
+      b.potential_files.push_back({names[k], contents.at(k)});
   }
   // statistics
   if (r.exists("statistics")) {
     Statistics st;
     st.form = r.attribute_string("/statistics", "form") == "gaussian" ? Statistics::Form::gaussian
                                                                       : Statistics::Form::empirical;
-    st.method = r.attribute_string("/statistics", "method") == "cubature" ? Statistics::Method::cubature
-                                                                          : Statistics::Method::sampling;
+    st.method = r.attribute_string("/statistics", "method") == "cubature"
+                    ? Statistics::Method::cubature
+                    : Statistics::Method::sampling;
     st.order = static_cast<int>(r.attribute_int("/statistics", "order"));
     st.samples = r.attribute_int("/statistics", "samples");
     st.seed = static_cast<std::uint64_t>(r.attribute_int("/statistics", "seed"));
@@ -319,7 +336,10 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
     }
     for (auto a : hm.atom)
       if (a < 0 || static_cast<std::size_t>(a) >= n)
-        throw InputError("homogenisation weight names an atom outside the body").source(src).key("homogenisation/atom").value(std::to_string(a));
+        throw InputError("homogenisation weight names an atom outside the body")
+            .source(src)
+            .key("homogenisation/atom")
+            .value(std::to_string(a));
     b.homogenisation = std::move(hm);
   }
   if (r.exists("provenance")) {

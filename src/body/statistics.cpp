@@ -1,7 +1,6 @@
 #include "pdcg/body/statistics.hpp"
 
 #include <Eigen/Dense>
-
 #include <cmath>
 #include <random>
 #include <string>
@@ -45,7 +44,8 @@ Statistics isotropic_gaussian(const Body& body, double width) {
   s.form = Statistics::Form::gaussian;
   s.covariance.assign(9 * body.size(), 0.0);
   for (std::size_t i = 0; i < body.size(); ++i)
-    for (int a = 0; a < body.dimension; ++a) s.covariance[9 * i + static_cast<std::size_t>(4 * a)] = width * width;
+    for (int a = 0; a < body.dimension; ++a)
+      s.covariance[9 * i + static_cast<std::size_t>(4 * a)] = width * width;
   return s;
 }
 
@@ -53,7 +53,8 @@ namespace {
 
 /// Displacements of every atom in every frame relative to the body's positions (minimum image
 /// along periodic directions), checked ids. Returns S×3N.
-std::vector<std::vector<double>> displacements(const Body& body, std::span<const atomistic::Atoms> frames) {
+std::vector<std::vector<double>> displacements(const Body& body,
+                                               std::span<const atomistic::Atoms> frames) {
   if (frames.size() < 2)
     throw InputError("statistical densities need several frames")
         .key("frames")
@@ -88,12 +89,14 @@ void move_means(Body& body, const std::vector<double>& mean) {
   body.x = mean;
   auto& fam = body.families;
   for (std::size_t i = 0; i < fam.points(); ++i)
-    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[i]);
+         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
       const auto j = static_cast<std::size_t>(fam.neighbor[b]);
       const Eigen::Vector3d n(fam.shift[3 * b], fam.shift[3 * b + 1], fam.shift[3 * b + 2]);
-      const Eigen::Vector3d xi = Eigen::Vector3d(mean[3 * j] - mean[3 * i], mean[3 * j + 1] - mean[3 * i + 1],
-                                                 mean[3 * j + 2] - mean[3 * i + 2]) +
-                                 fam.h * n;
+      const Eigen::Vector3d xi =
+          Eigen::Vector3d(mean[3 * j] - mean[3 * i], mean[3 * j + 1] - mean[3 * i + 1],
+                          mean[3 * j + 2] - mean[3 * i + 2]) +
+          fam.h * n;
       for (int k = 0; k < 3; ++k) fam.xi[3 * b + static_cast<std::size_t>(k)] = xi[k];
     }
 }
@@ -119,8 +122,10 @@ Statistics gaussian_from_frames(Body& body, std::span<const atomistic::Atoms> fr
     }
     C /= S;  // moments of the empirical distribution (same second moment as the empirical form)
     for (int a = 0; a < 3; ++a) {
-      mean[3 * i + static_cast<std::size_t>(a)] = body.x[3 * i + static_cast<std::size_t>(a)] + m[a];
-      for (int b = 0; b < 3; ++b) s.covariance[9 * i + static_cast<std::size_t>(3 * a + b)] = C(a, b);
+      mean[3 * i + static_cast<std::size_t>(a)] =
+          body.x[3 * i + static_cast<std::size_t>(a)] + m[a];
+      for (int b = 0; b < 3; ++b)
+        s.covariance[9 * i + static_cast<std::size_t>(3 * a + b)] = C(a, b);
     }
   }
   move_means(body, mean);
@@ -165,23 +170,30 @@ void make_statistical(Body& body, Statistics s) {
             .expected("a pair potential (lj/cut, morse, …)")
             .fix("use sampling (--samples N) for many-body potentials");
     } else if (s.samples < 1) {
-      throw InputError("sample count must be positive").key("samples").value(std::to_string(s.samples));
+      throw InputError("sample count must be positive")
+          .key("samples")
+          .value(std::to_string(s.samples));
     }
   } else {
     if (s.frames.empty())
-      throw InputError("empirical statistics without frames").key("frames").expected("at least 2 frames");
+      throw InputError("empirical statistics without frames")
+          .key("frames")
+          .expected("at least 2 frames");
     for (const auto& f : s.frames)
       if (f.size() != 3 * body.size())
-        throw InputError("frame size does not match the body").key("frames").value(std::to_string(f.size() / 3));
+        throw InputError("frame size does not match the body")
+            .key("frames")
+            .value(std::to_string(f.size() / 3));
   }
   body.statistics = std::move(s);
   body.kind = BodyKind::statistical;
-  body.provenance.push_back(std::string("statistical densities: ") +
-                            (body.statistics->form == Statistics::Form::gaussian
-                                 ? (body.statistics->method == Statistics::Method::cubature
-                                        ? "gaussian, Gauss–Hermite order " + std::to_string(body.statistics->order)
-                                        : "gaussian, " + std::to_string(body.statistics->samples) + " samples")
-                                 : "empirical, " + std::to_string(body.statistics->frames.size()) + " frames"));
+  body.provenance.push_back(
+      std::string("statistical densities: ") +
+      (body.statistics->form == Statistics::Form::gaussian
+           ? (body.statistics->method == Statistics::Method::cubature
+                  ? "gaussian, Gauss–Hermite order " + std::to_string(body.statistics->order)
+                  : "gaussian, " + std::to_string(body.statistics->samples) + " samples")
+           : "empirical, " + std::to_string(body.statistics->frames.size()) + " frames"));
 }
 
 namespace detail {
@@ -196,7 +208,8 @@ Eigen::Matrix3d factor_of(const Eigen::Matrix3d& C, int d) {
   M.topLeftCorner(d, d) = C.topLeftCorner(d, d);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M);
   Eigen::Matrix3d A;
-  for (int c = 0; c < 3; ++c) A.col(c) = es.eigenvectors().col(2 - c) * std::sqrt(std::max(0.0, es.eigenvalues()[2 - c]));
+  for (int c = 0; c < 3; ++c)
+    A.col(c) = es.eigenvectors().col(2 - c) * std::sqrt(std::max(0.0, es.eigenvalues()[2 - c]));
   return A;
 }
 
@@ -210,22 +223,24 @@ Eigen::Matrix3d cov_of(const Statistics& s, std::size_t i) {
 /// Shared sampling/empirical accumulation: evaluates the whole body at sample positions ys and
 /// adds weight·ψ_k, weight·t_b. One fused parallel loop over atoms (bonds of atom k are built
 /// in k's slice of the scratch arrays); no allocation.
-double accumulate_sample(const Body& body, std::span<const double> ys, const Eigen::Matrix3d& h_y, double weight,
-                         std::span<double> psi_out, std::span<double> t_out, Scratch& sc) {
+double accumulate_sample(const Body& body, std::span<const double> ys, const Eigen::Matrix3d& h_y,
+                         double weight, std::span<double> psi_out, std::span<double> t_out,
+                         Scratch& sc) {
   const auto& fam = body.families;
   const auto& pot = *body.potential;
   double total = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : total)
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body.size()); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
-    const auto b0 = static_cast<std::size_t>(fam.offset[i]), b1 = static_cast<std::size_t>(fam.offset[i + 1]);
+    const auto b0 = static_cast<std::size_t>(fam.offset[i]),
+               b1 = static_cast<std::size_t>(fam.offset[i + 1]);
     for (std::size_t b = b0; b < b1; ++b) {
       const auto j = static_cast<std::size_t>(fam.neighbor[b]);
       const double s0 = fam.shift[3 * b], s1 = fam.shift[3 * b + 1], s2 = fam.shift[3 * b + 2];
       for (int k = 0; k < 3; ++k)
-        sc.bonds[3 * b + static_cast<std::size_t>(k)] = ys[3 * j + static_cast<std::size_t>(k)] -
-                                                        ys[3 * i + static_cast<std::size_t>(k)] + h_y(k, 0) * s0 +
-                                                        h_y(k, 1) * s1 + h_y(k, 2) * s2;
+        sc.bonds[3 * b + static_cast<std::size_t>(k)] =
+            ys[3 * j + static_cast<std::size_t>(k)] - ys[3 * i + static_cast<std::size_t>(k)] +
+            h_y(k, 0) * s0 + h_y(k, 1) * s1 + h_y(k, 2) * s2;
     }
     atomistic::FamilyState f;
     f.type = body.type[i];
@@ -253,9 +268,11 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
   const int d = body.dimension;
   std::fill(psi_out.begin(), psi_out.end(), 0.0);
   std::fill(t_out.begin(), t_out.end(), 0.0);
-  const bool per_sample = s.form == Statistics::Form::empirical || s.method == Statistics::Method::sampling;
+  const bool per_sample =
+      s.form == Statistics::Form::empirical || s.method == Statistics::Method::sampling;
   sc.ntype.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b) sc.ntype[b] = body.type[static_cast<std::size_t>(fam.neighbor[b])];
+  for (std::size_t b = 0; b < nb; ++b)
+    sc.ntype[b] = body.type[static_cast<std::size_t>(fam.neighbor[b])];
   if (per_sample) {
     sc.ys.resize(3 * n);
     sc.bonds.resize(3 * nb);
@@ -271,7 +288,9 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
         const Eigen::Vector3d dx(f[3 * i] - body.x[3 * i], f[3 * i + 1] - body.x[3 * i + 1],
                                  f[3 * i + 2] - body.x[3 * i + 2]);
         const Eigen::Vector3d g = G * dx;
-        for (int k = 0; k < 3; ++k) sc.ys[3 * i + static_cast<std::size_t>(k)] = y[3 * i + static_cast<std::size_t>(k)] + g[k];
+        for (int k = 0; k < 3; ++k)
+          sc.ys[3 * i + static_cast<std::size_t>(k)] =
+              y[3 * i + static_cast<std::size_t>(k)] + g[k];
       }
       e += accumulate_sample(body, sc.ys, h_y, w, psi_out, t_out, sc);
     }
@@ -292,8 +311,11 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
       for (std::size_t i = 0; i < n; ++i) {
         Eigen::Vector3d z = Eigen::Vector3d::Zero();
         for (int a = 0; a < d; ++a) z[a] = normal(rng);
-        const Eigen::Vector3d g = G * (Eigen::Map<const Eigen::Matrix3d>(sc.factor.data() + 9 * i) * z);
-        for (int k = 0; k < 3; ++k) sc.ys[3 * i + static_cast<std::size_t>(k)] = y[3 * i + static_cast<std::size_t>(k)] + g[k];
+        const Eigen::Vector3d g =
+            G * (Eigen::Map<const Eigen::Matrix3d>(sc.factor.data() + 9 * i) * z);
+        for (int k = 0; k < 3; ++k)
+          sc.ys[3 * i + static_cast<std::size_t>(k)] =
+              y[3 * i + static_cast<std::size_t>(k)] + g[k];
       }
       e += accumulate_sample(body, sc.ys, h_y, w, psi_out, t_out, sc);
     }
@@ -328,7 +350,8 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
     const auto i = static_cast<std::size_t>(ii);
     const Eigen::Matrix3d Ci = cov_of(s, i);
     double psi = 0.0;
-    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[i]);
+         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
       const auto j = static_cast<std::size_t>(fam.neighbor[b]);
       const Eigen::Matrix3d B = G * factor_of(Ci + cov_of(s, j), d);
       atomistic::FamilyState f;

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <span>
 #include <vector>
 
@@ -14,7 +13,7 @@ struct Scratch {
   int order = -1, dim = -1;
   std::vector<double> nodes;    ///< tensor-product Gauss–Hermite nodes, dim per node
   std::vector<double> weights;  ///< their weights (sum 1)
-  std::vector<double> factor;   ///< 9 per atom: 3×d factor A_k with A_k A_kᵀ = Σ_k (col-major 3×3)
+  std::vector<double> factor;  ///< 9 per atom: 3×d factor A_k with A_k A_kᵀ = Σ_k (col-major 3×3)
   std::vector<double> ys, bonds, t, psi;
   std::vector<int> ntype;
 };
@@ -27,9 +26,5 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
                                 const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G,
                                 std::span<const double> mean_bonds, std::span<double> psi_out,
                                 std::span<double> t_out, Scratch& scratch);
-
-
-
-
 
 }  // namespace pdcg::body::detail

@@ -20,7 +20,8 @@
 namespace pdcg::cli::body_util {
 
 /// n numbers from an option value ("1 0 0 0 1 0 0 0 1").
-inline std::vector<double> numbers(const std::string& text, std::size_t n, std::string_view option) {
+inline std::vector<double> numbers(const std::string& text, std::size_t n,
+                                   std::string_view option) {
   std::string t = text;
   for (auto& c : t)
     if (c == ',') c = ' ';
@@ -67,22 +68,25 @@ inline FrameRange parse_frames(const std::optional<std::int64_t>& frame, const s
     r.first = parts[0].empty() ? 0 : fix(parse_int(parts[0], {"--frames", 0, "A"}));
     r.last = parts[1].empty() ? nframes : fix(parse_int(parts[1], {"--frames", 0, "B"}));
     if (parts.size() == 3) r.step = parse_int(parts[2], {"--frames", 0, "S"});
-    if (r.step < 1) throw InputError("frame step must be positive").source("--frames").value(frames);
+    if (r.step < 1)
+      throw InputError("frame step must be positive").source("--frames").value(frames);
   }
   if (r.first < 0 || r.first >= nframes || r.last > nframes || r.last <= r.first)
     throw InputError("frame range out of bounds")
         .source(source)
         .key(frame ? "--frame" : "--frames")
         .value(frame ? std::to_string(*frame) : frames)
-        .expected(fmt::format("frames within 0..{} (the file holds {} frame{})", nframes - 1, nframes,
-                              nframes == 1 ? "" : "s"))
+        .expected(fmt::format("frames within 0..{} (the file holds {} frame{})", nframes - 1,
+                              nframes, nframes == 1 ? "" : "s"))
         .fix("count frames from 0; negative numbers count from the end");
   return r;
 }
 
 /// Frames of a dump or the configuration of a data file.
-inline std::vector<atomistic::Atoms> read_configurations(const std::string& path, const std::optional<std::int64_t>& frame,
-                                                         const std::string& frames, std::string* units) {
+inline std::vector<atomistic::Atoms> read_configurations(const std::string& path,
+                                                         const std::optional<std::int64_t>& frame,
+                                                         const std::string& frames,
+                                                         std::string* units) {
   std::vector<atomistic::Atoms> out;
   if (atomistic::detect_atom_file_kind(path) == atomistic::AtomFileKind::data) {
     (void)parse_frames(frame, frames, 1, path);
@@ -92,15 +96,16 @@ inline std::vector<atomistic::Atoms> read_configurations(const std::string& path
   atomistic::DumpReader dump(path);
   if (units) *units = dump.units();
   const auto r = parse_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path);
-  for (std::int64_t f = r.first; f < r.last; f += r.step) out.push_back(dump.frame(static_cast<std::size_t>(f)));
+  for (std::int64_t f = r.first; f < r.last; f += r.step)
+    out.push_back(dump.frame(static_cast<std::size_t>(f)));
   return out;
 }
 
 /// Deformed positions for a body from a configuration with the same atom ids: sorted by id,
 /// and along periodic directions moved by whole box vectors of the deformed box so that every
 /// atom sits on the image the body's families assume (fractional displacement < ½).
-inline std::vector<double> deformed_positions(const body::Body& b, atomistic::Atoms a, const std::string& source,
-                                              Eigen::Matrix3d& h_y) {
+inline std::vector<double> deformed_positions(const body::Body& b, atomistic::Atoms a,
+                                              const std::string& source, Eigen::Matrix3d& h_y) {
   atomistic::sort_by_id(a, source);
   if (a.id != b.id) {
     std::string detail = fmt::format("{} atoms", a.size());
@@ -114,13 +119,16 @@ inline std::vector<double> deformed_positions(const body::Body& b, atomistic::At
         .key("id")
         .value(detail)
         .expected(fmt::format("the {} atom ids of the body", b.size()))
-        .fix("dump the same atoms (dump custom ... id type x y z) as the configuration the body was built from");
+        .fix(
+            "dump the same atoms (dump custom ... id type x y z) as the configuration the body was "
+            "built from");
   }
   h_y = b.periodic() ? a.box.h() : b.families.h;
   if (b.periodic()) {
     const Eigen::Matrix3d Hx_inv = b.box.h_inverse(), Hy_inv = h_y.inverse();
     for (std::size_t i = 0; i < a.size(); ++i) {
-      const Eigen::Vector3d sx = Hx_inv * (Eigen::Vector3d(b.x[3 * i], b.x[3 * i + 1], b.x[3 * i + 2]) - b.box.lo);
+      const Eigen::Vector3d sx =
+          Hx_inv * (Eigen::Vector3d(b.x[3 * i], b.x[3 * i + 1], b.x[3 * i + 2]) - b.box.lo);
       Eigen::Vector3d y(a.x[3 * i], a.x[3 * i + 1], a.x[3 * i + 2]);
       const Eigen::Vector3d sy = Hy_inv * (y - a.box.lo);
       Eigen::Vector3d m = Eigen::Vector3d::Zero();

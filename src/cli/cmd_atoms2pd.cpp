@@ -18,7 +18,8 @@
 namespace {
 
 struct Options {
-  std::string input, potential, density = "delta", statistics = "gaussian", frames, output, boundary;
+  std::string input, potential, density = "delta", statistics = "gaussian", frames, output,
+                                boundary;
   std::optional<std::int64_t> frame, samples;
   std::optional<int> order;
   std::optional<double> width, family_cutoff;
@@ -29,31 +30,47 @@ int run(const Options& o) {
   using namespace pdcg;
   namespace bu = cli::body_util;
   if (o.density != "delta" && o.density != "statistical")
-    throw InputError("unknown density").source("--density").value(o.density).expected("delta or statistical");
+    throw InputError("unknown density")
+        .source("--density")
+        .value(o.density)
+        .expected("delta or statistical");
   if (o.statistics != "gaussian" && o.statistics != "empirical")
-    throw InputError("unknown statistics").source("--statistics").value(o.statistics).expected("gaussian or empirical");
+    throw InputError("unknown statistics")
+        .source("--statistics")
+        .value(o.statistics)
+        .expected("gaussian or empirical");
   const bool statistical = o.density == "statistical";
   if (!statistical && (o.order || o.samples || o.width || !o.frames.empty()))
     throw InputError("--order, --samples, --width and --frames belong to statistical densities")
         .source("--density")
         .value("delta")
         .fix("add --density statistical, or drop those options");
-  if (o.order && o.samples) throw InputError("give one of --order and --samples").key("--order/--samples");
+  if (o.order && o.samples)
+    throw InputError("give one of --order and --samples").key("--order/--samples");
   std::string dump_units;
-  std::vector<atomistic::Atoms> frames = bu::read_configurations(o.input, o.frame, o.frames, &dump_units);
+  std::vector<atomistic::Atoms> frames =
+      bu::read_configurations(o.input, o.frame, o.frames, &dump_units);
   if (!o.boundary.empty()) {
     const auto tok = split_blanks(o.boundary);
-    if (tok.size() != 3) throw InputError("bad boundary").source("--boundary").value(o.boundary).expected("three of p/f, e.g. \"p p f\"");
+    if (tok.size() != 3)
+      throw InputError("bad boundary")
+          .source("--boundary")
+          .value(o.boundary)
+          .expected("three of p/f, e.g. \"p p f\"");
     for (auto& f : frames)
       for (std::size_t k = 0; k < 3; ++k) {
         if (tok[k] != "p" && tok[k] != "f")
-          throw InputError("bad boundary flag").source("--boundary").value(tok[k]).expected("p (periodic) or f (free)");
+          throw InputError("bad boundary flag")
+              .source("--boundary")
+              .value(tok[k])
+              .expected("p (periodic) or f (free)");
         f.box.periodic[k] = tok[k] == "p";
       }
   }
   atomistic::Atoms& ref = frames.front();
   int ntypes = ref.ntypes;
-  if (ntypes == 0 && !ref.type.empty()) ntypes = *std::max_element(ref.type.begin(), ref.type.end());
+  if (ntypes == 0 && !ref.type.empty())
+    ntypes = *std::max_element(ref.type.begin(), ref.type.end());
   atomistic::PotentialSpec spec = atomistic::read_potential_commands(o.potential, ntypes);
   if (!dump_units.empty() && dump_units != to_string(spec.units))
     throw InputError("the dump and the potential use different units")
@@ -83,7 +100,8 @@ int run(const Options& o) {
     if (o.statistics == "empirical") {
       s = body::empirical_from_frames(b, frames);
     } else if (o.width) {
-      if (frames.size() > 1) throw InputError("give --width or several frames, not both").key("--width");
+      if (frames.size() > 1)
+        throw InputError("give --width or several frames, not both").key("--width");
       s = body::isotropic_gaussian(b, *o.width);
     } else {
       if (frames.size() < 2)
@@ -96,7 +114,8 @@ int run(const Options& o) {
       s.method = body::Statistics::Method::sampling;
       s.samples = *o.samples;
     } else {
-      s.method = pot->pairwise() ? body::Statistics::Method::cubature : body::Statistics::Method::sampling;
+      s.method =
+          pot->pairwise() ? body::Statistics::Method::cubature : body::Statistics::Method::sampling;
       if (o.order) s.order = *o.order;
       if (o.order && !pot->pairwise())
         throw InputError("Gauss–Hermite cubature needs a pair potential")
@@ -104,12 +123,26 @@ int run(const Options& o) {
             .value(pot->style())
             .fix("use --samples N for many-body potentials");
     }
+    if (frames.size() > 1) {
+      // families of the mean configuration (not of the first frame): rebuild the delta body at
+      // the means the statistics moved the points to
+      atomistic::Atoms mean = ref;
+      atomistic::sort_by_id(mean, o.input);
+      mean.x = b.x;
+      auto files = std::move(b.potential_files);
+      auto prov = std::move(b.provenance);
+      b = body::make_delta_body(mean, pot, spec, opt);
+      b.potential_files = std::move(files);
+      b.provenance = std::move(prov);
+      b.provenance.push_back(
+          fmt::format("families rebuilt at the mean positions of {} frames", frames.size()));
+    }
     body::make_statistical(b, std::move(s));
   }
   body::write_body(b, o.output);
   std::printf("%s: %s body, %zu points, %zu bonds, horizon %.10g, potential %s\n", o.output.c_str(),
-              std::string(body::to_string(b.kind)).c_str(), b.size(), b.families.bonds(), b.horizon(),
-              pot->style().c_str());
+              std::string(body::to_string(b.kind)).c_str(), b.size(), b.families.bonds(),
+              b.horizon(), pot->style().c_str());
   return 0;
 }
 
@@ -117,23 +150,29 @@ pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
   auto* sub = app.add_subcommand("atoms2pd", "Build a peridynamic body from atoms and a potential");
   auto o = std::make_shared<Options>();
   sub->add_option("--input", o->input, "LAMMPS dump or data file")->required();
-  sub->add_option("--frame", o->frame, "Frame of a dump (0-based; negative from the end; default 0)");
-  sub->add_option("--frames", o->frames, "Frame range A:B[:S] (B exclusive) for statistical densities");
-  sub->add_option("--potential", o->potential, "LAMMPS commands defining the interaction")->required();
+  sub->add_option("--frame", o->frame,
+                  "Frame of a dump (0-based; negative from the end; default 0)");
+  sub->add_option("--frames", o->frames,
+                  "Frame range A:B[:S] (B exclusive) for statistical densities");
+  sub->add_option("--potential", o->potential, "LAMMPS commands defining the interaction")
+      ->required();
   sub->add_option("--density", o->density, "delta | statistical (default delta)");
   sub->add_option("--statistics", o->statistics, "gaussian | empirical (default gaussian)");
   sub->add_option("--order", o->order, "Gauss–Hermite points per dimension (pair potentials)");
   sub->add_option("--samples", o->samples, "Samples for the expected energy (any potential)");
   sub->add_option("--width", o->width, "Isotropic Gaussian width (one frame)");
-  sub->add_option("--family-cutoff", o->family_cutoff,
-                  "Family radius (default: the potential cutoff); a skin keeps pairs that come within the "
-                  "cutoff in deformed configurations");
+  sub->add_option(
+      "--family-cutoff", o->family_cutoff,
+      "Family radius (default: the potential cutoff); a skin keeps pairs that come within the "
+      "cutoff in deformed configurations");
   sub->add_option("--dimension", o->dimension, "Dimension of the body (1, 2, 3; default 3)");
   sub->add_option("--boundary", o->boundary, "Override periodicity, e.g. \"p p f\"");
   sub->add_option("-o,--output", o->output, "Output model file")->required();
   sub->footer(
-      "Examples:\n  pdcg atoms2pd --input dump.lammpstrj --frame 0 --potential lj.in --density delta -o body.h5\n"
-      "  pdcg atoms2pd --input dump.lammpstrj --frames 10:60 --potential lj.in --density statistical --order 4 -o stat.h5");
+      "Examples:\n  pdcg atoms2pd --input dump.lammpstrj --frame 0 --potential lj.in --density "
+      "delta -o body.h5\n"
+      "  pdcg atoms2pd --input dump.lammpstrj --frames 10:60 --potential lj.in --density "
+      "statistical --order 4 -o stat.h5");
   return [o] { return run(*o); };
 });
 

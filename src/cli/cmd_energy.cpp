@@ -32,14 +32,17 @@ int run(const Options& o) {
   const body::Evaluation e = ev.homogeneous(F);
   const double vol = b.reference_volume();
   if (o.json)
-    std::printf("{\"energy\": %.17g, \"energy_density\": %.17g, \"volume\": %.17g}\n", e.energy, e.energy / vol, vol);
+    std::printf("{\"energy\": %.17g, \"energy_density\": %.17g, \"volume\": %.17g}\n", e.energy,
+                e.energy / vol, vol);
   else
-    std::printf("energy %.17g\nenergy_density %.17g\nvolume %.17g\n", e.energy, e.energy / vol, vol);
+    std::printf("energy %.17g\nenergy_density %.17g\nvolume %.17g\n", e.energy, e.energy / vol,
+                vol);
   return 0;
 }
 
 pdcg::cli::Registration reg(115, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("energy", "Energy and energy density under a homogeneous deformation F");
+  auto* sub =
+      app.add_subcommand("energy", "Energy and energy density under a homogeneous deformation F");
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
   sub->add_option("--F", o->F, "Deformation gradient, 9 numbers row-major")->required();

@@ -36,9 +36,11 @@ int run(const Options& o) {
   auto& s = out.stream();
   s << "id,fx,fy,fz\n";
   for (std::size_t i = 0; i < b.size(); ++i)
-    s << fmt::format("{},{:.17g},{:.17g},{:.17g}\n", b.id[i], e.forces[3 * i], e.forces[3 * i + 1], e.forces[3 * i + 2]);
+    s << fmt::format("{},{:.17g},{:.17g},{:.17g}\n", b.id[i], e.forces[3 * i], e.forces[3 * i + 1],
+                     e.forces[3 * i + 2]);
   out.commit();
-  std::fprintf(stderr, "%s: forces on %zu points, energy %.17g\n", o.output.c_str(), b.size(), e.energy);
+  std::fprintf(stderr, "%s: forces on %zu points, energy %.17g\n", o.output.c_str(), b.size(),
+               e.energy);
   return 0;
 }
 

@@ -35,7 +35,9 @@ std::vector<double> numbers(const std::string& text, std::size_t count, std::str
 std::vector<double> read_points(const std::string& path) {
   std::ifstream in(path);
   if (!in)
-    throw pdcg::InputError("cannot open points file").source(path).fix("check the path given to --points");
+    throw pdcg::InputError("cannot open points file")
+        .source(path)
+        .fix("check the path given to --points");
   std::vector<double> pts;
   std::string line;
   long n = 0;
@@ -52,9 +54,11 @@ std::vector<double> read_points(const std::string& path) {
           .line(n)
           .value(pdcg::trim(line))
           .expected("x y z");
-    for (int k = 0; k < 3; ++k) pts.push_back(pdcg::parse_double(tok[static_cast<std::size_t>(k)], {path, n, "xyz"}));
+    for (int k = 0; k < 3; ++k)
+      pts.push_back(pdcg::parse_double(tok[static_cast<std::size_t>(k)], {path, n, "xyz"}));
   }
-  if (pts.empty()) throw pdcg::InputError("points file holds no points").source(path).expected("lines 'x y z'");
+  if (pts.empty())
+    throw pdcg::InputError("points file holds no points").source(path).expected("lines 'x y z'");
   return pts;
 }
 
@@ -76,7 +80,8 @@ int run(const Options& o) {
     if (!o.axes.empty()) {
       const auto a = numbers(o.axes, 9, "--axes");
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) g.rotation(c, r) = a[static_cast<std::size_t>(3 * r + c)];  // rows given = axes
+        for (int c = 0; c < 3; ++c)
+          g.rotation(c, r) = a[static_cast<std::size_t>(3 * r + c)];  // rows given = axes
       if (!(g.rotation.transpose() * g.rotation).isApprox(Eigen::Matrix3d::Identity(), 1e-8) ||
           g.rotation.determinant() < 0)
         throw InputError("grid axes are not orthonormal and right-handed")
@@ -94,23 +99,27 @@ int run(const Options& o) {
   body::write_body(h, o.output);
   double m = 0;
   for (double v : h.homogenisation->mass) m += v;
-  std::printf("%s: %zu points from %zu atoms, kernel %s width %g, total mass %.17g\n", o.output.c_str(),
-              h.homogenisation->size(), h.size(), o.kernel.c_str(), o.width, m);
+  std::printf("%s: %zu points from %zu atoms, kernel %s width %g, total mass %.17g\n",
+              o.output.c_str(), h.homogenisation->size(), h.size(), o.kernel.c_str(), o.width, m);
   return 0;
 }
 
 pdcg::cli::Registration reg(120, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("homogenize", "Homogenise a PD body with a kernel on a grid or given points");
+  auto* sub = app.add_subcommand("homogenize",
+                                 "Homogenise a PD body with a kernel on a grid or given points");
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
-  sub->add_option("--kernel", o->kernel, "top-hat | gaussian | cubic-bspline | wendland-c2")->required();
+  sub->add_option("--kernel", o->kernel, "top-hat | gaussian | cubic-bspline | wendland-c2")
+      ->required();
   sub->add_option("--width", o->width, "Kernel width: support radius (σ for gaussian)")->required();
   sub->add_option("--spacing", o->spacing, "Regular grid of this spacing");
-  sub->add_option("--axes", o->axes, "Grid axes, 9 numbers \"a1 a2 a3 b1 b2 b3 c1 c2 c3\" (orthonormal)");
+  sub->add_option("--axes", o->axes,
+                  "Grid axes, 9 numbers \"a1 a2 a3 b1 b2 b3 c1 c2 c3\" (orthonormal)");
   sub->add_option("--shift", o->shift, "Grid offset in units of the spacing, \"sx sy sz\"");
   sub->add_option("--points", o->points, "Text file of points, one 'x y z' per line");
   sub->add_option("-o,--output", o->output, "Output model file")->required();
-  sub->footer("Example:\n  pdcg homogenize body.h5 --kernel wendland-c2 --width 6 --spacing 2 -o hom.h5");
+  sub->footer(
+      "Example:\n  pdcg homogenize body.h5 --kernel wendland-c2 --width 6 --spacing 2 -o hom.h5");
   return [o] { return run(*o); };
 });
 

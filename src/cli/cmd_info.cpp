@@ -16,6 +16,22 @@ int run(const std::string& path) {
               info.format.c_str(), info.schema_version,
               std::string(pdcg::to_string(info.units)).c_str(), info.pdcg_version.c_str());
   std::printf("  command: %s\n", info.command_line.c_str());
+  if (info.format == "pdcg-body") {  // a PD body: what it is, in two lines (docs/bodies.md)
+    const auto bonds = file.exists("families/neighbor") ? file.dims("families/neighbor").at(0) : 0;
+    std::printf("  %s body, dimension %lld, %lld points, %zu bonds, horizon %g, epsilon %g\n",
+                file.attribute_string("/", "kind").c_str(),
+                static_cast<long long>(file.attribute_int("/", "dimension")),
+                static_cast<long long>(file.attribute_int("/", "points")), bonds,
+                file.attribute_double("/families", "horizon"), file.attribute_double("/", "epsilon"));
+    std::printf("  potential %s", file.attribute_string("/potential", "style").c_str());
+    if (file.exists("statistics"))
+      std::printf("; statistics %s", file.attribute_string("/statistics", "form").c_str());
+    if (file.exists("homogenisation"))
+      std::printf("; homogenised onto %zu points (kernel %s, width %g)", file.dims("homogenisation/volume").at(0),
+                  file.attribute_string("/homogenisation", "kernel").c_str(),
+                  file.attribute_double("/homogenisation", "width"));
+    std::printf("\n");
+  }
   // A short tree: groups and datasets with their shapes, two levels deep.
   std::function<void(const std::string&, int)> walk = [&](const std::string& group, int depth) {
     for (const auto& name : file.list(group)) {

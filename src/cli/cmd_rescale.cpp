@@ -25,12 +25,14 @@ int run(const Options& o) {
   body::Body r = coarsen::rescale(b, eps);
   r.provenance.back() += " (" + pdcg::command_line() + ")";
   body::write_body(r, o.output);
-  std::printf("%s: rescaled by %.17g, horizon %.17g -> %.17g\n", o.output.c_str(), eps, b.horizon(), r.horizon());
+  std::printf("%s: rescaled by %.17g, horizon %.17g -> %.17g\n", o.output.c_str(), eps, b.horizon(),
+              r.horizon());
   return 0;
 }
 
 pdcg::cli::Registration reg(130, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("rescale", "Rescale the horizon of a PD body (delta' = eps * delta)");
+  auto* sub =
+      app.add_subcommand("rescale", "Rescale the horizon of a PD body (delta' = eps * delta)");
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
   sub->add_option("--factor", o->factor, "Rescaling factor eps > 0");

@@ -60,8 +60,8 @@ body::Body rescale(const body::Body& in, double eps) {
     h.width *= eps;
   }
   b.kind = body::BodyKind::rescaled;
-  b.provenance.push_back(fmt::format("rescaled by ε = {} (total ε = {}), horizon {} → {}", eps, b.epsilon,
-                                     in.horizon(), b.horizon()));
+  b.provenance.push_back(fmt::format("rescaled by ε = {} (total ε = {}), horizon {} → {}", eps,
+                                     b.epsilon, in.horizon(), b.horizon()));
   return b;
 }
 

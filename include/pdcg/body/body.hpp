@@ -20,7 +20,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -48,9 +47,9 @@ struct Statistics {
   Form form = Form::gaussian;
   /// gaussian: cubature (Gauss–Hermite, pair potentials only) or sampling (any potential).
   Method method = Method::cubature;
-  int order = 3;                 ///< Gauss–Hermite points per dimension (cubature)
-  std::int64_t samples = 1000;   ///< joint samples of all atom positions (sampling)
-  std::uint64_t seed = 12345;    ///< random seed (sampling): results are reproducible
+  int order = 3;                ///< Gauss–Hermite points per dimension (cubature)
+  std::int64_t samples = 1000;  ///< joint samples of all atom positions (sampling)
+  std::uint64_t seed = 12345;   ///< random seed (sampling): results are reproducible
   /// gaussian: per-atom covariance Σ_k, 9 per atom (row-major 3×3). The means are the
   /// reference positions x_k of the body.
   std::vector<double> covariance;
@@ -80,7 +79,7 @@ struct Homogenisation {
 
 /// A potential file (or table) the model needs, stored verbatim so a model file is self-contained.
 struct EmbeddedFile {
-  std::string name;      ///< as the pair_coeff line names it
+  std::string name;  ///< as the pair_coeff line names it
   std::string contents;
 };
 
@@ -134,7 +133,8 @@ struct DeltaBodyOptions {
 /// type, the atoms' type_mass filled in from the spec's `mass` commands when the atoms have
 /// none). Throws InputError when an atom type is not covered by the potential, when a mass is
 /// missing, or when the configuration is empty.
-Body make_delta_body(const atomistic::Atoms& atoms, std::shared_ptr<const atomistic::Potential> potential,
+Body make_delta_body(const atomistic::Atoms& atoms,
+                     std::shared_ptr<const atomistic::Potential> potential,
                      atomistic::PotentialSpec spec, const DeltaBodyOptions& options = {});
 
 /// Wraps a potential for a body rescaled by ε in dimension d:
@@ -149,9 +149,9 @@ struct Scratch;
 
 /// Result of one evaluation of the atomic layer.
 struct Evaluation {
-  double energy = 0.0;          ///< Σ_k ψ_k (expected value for statistical bodies)
-  std::span<const double> psi;  ///< N per-point energies ψ_k
-  std::span<const double> t;    ///< 3 per bond: force states t_b
+  double energy = 0.0;             ///< Σ_k ψ_k (expected value for statistical bodies)
+  std::span<const double> psi;     ///< N per-point energies ψ_k
+  std::span<const double> t;       ///< 3 per bond: force states t_b
   std::span<const double> forces;  ///< 3N: f_k = Σ_b (t_b − t_reverse(b))
 };
 
@@ -183,6 +183,7 @@ class Evaluator {
   Evaluation run(std::span<const double> y, const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G);
   const Body& body_;
   std::vector<double> y_, bonds_, t_, psi_, f_;
+  std::vector<int> ntype_;                    ///< partner type per bond
   std::unique_ptr<detail::Scratch> scratch_;  ///< statistical work arrays
 };
 

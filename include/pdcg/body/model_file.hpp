@@ -30,8 +30,8 @@ std::vector<EmbeddedFile> embed_potential_files(const atomistic::PotentialSpec& 
 /// Rebuilds a native potential from stored command lines: embedded files are written to a
 /// private temporary directory, the pair_coeff lines are pointed at them, the lines re-parsed
 /// (read_potential_commands_from_string) and make_potential called. The default factory.
-std::shared_ptr<const atomistic::Potential> potential_from_commands(const atomistic::PotentialSpec& stored,
-                                                                    const std::vector<EmbeddedFile>& files);
+std::shared_ptr<const atomistic::Potential> potential_from_commands(
+    const atomistic::PotentialSpec& stored, const std::vector<EmbeddedFile>& files);
 
 /// The factory read_body uses when none is given (set by the module that knows how to make
 /// potentials from LAMMPS commands): potential_from_commands unless replaced.

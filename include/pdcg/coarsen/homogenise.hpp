@@ -7,7 +7,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <array>
 #include <cstdint>
 #include <string>
@@ -43,16 +42,16 @@ struct HomogeniseReport {
 
 /// Homogenises a body on a regular grid (empty grid points — no atom within the kernel support —
 /// are dropped). Point volumes: the grid cell measure (d-dimensional). Warns (log and report)
-/// when the kernel width is smaller than the lattice spacing: each atom then feeds the nearest
-/// point only and homogenisation does nothing. Throws InputError for a non-positive spacing,
+/// when the kernel's support radius is smaller than the lattice spacing: no point then averages
+/// over neighbouring atoms and homogenisation does nothing. Throws InputError for a non-positive spacing,
 /// an already homogenised body, or an atom that no grid point reaches.
 body::Body homogenise_on_grid(const body::Body& body, const Kernel& kernel, const GridOptions& grid,
                               HomogeniseReport* report = nullptr);
 
 /// Homogenises on given points (3P). Point volumes V_p = Σ_k w_kp V₀/N (the atoms' share of the
 /// body's reference volume). Points that no atom reaches keep zero mass.
-body::Body homogenise_on_points(const body::Body& body, const Kernel& kernel, std::vector<double> points,
-                                HomogeniseReport* report = nullptr);
+body::Body homogenise_on_points(const body::Body& body, const Kernel& kernel,
+                                std::vector<double> points, HomogeniseReport* report = nullptr);
 
 /// Median nearest-neighbour distance of the body's atoms (from its families; 0 without bonds).
 double lattice_spacing(const body::Body& body);

@@ -1,9 +1,9 @@
 /// \file
 /// Homogenisation kernels φ(q) (DESIGN.md §2.3, docs/bodies.md). A kernel is a small value
 /// type (aggregate with its width as only member) with a name, width(), support() and a radial
-/// shape operator()(r); adding one is one struct plus its entry in the Kernel variant below. Shapes are not normalised: homogenisation normalises the
-/// discrete weights per atom (Σ_p w_kp = 1), which is what conserves mass and energy on any
-/// set of continuum points.
+/// shape operator()(r); adding one is one struct plus its entry in the Kernel variant below. Shapes
+/// are not normalised: homogenisation normalises the discrete weights per atom (Σ_p w_kp = 1),
+/// which is what conserves mass and energy on any set of continuum points.
 #pragma once
 
 #include <cmath>
@@ -29,7 +29,9 @@ struct TruncatedGaussian {
   double sigma = 1.0;  ///< width = σ
   double width() const { return sigma; }
   double support() const { return 3.0 * sigma; }
-  double operator()(double r) const { return r < 3.0 * sigma ? std::exp(-0.5 * r * r / (sigma * sigma)) : 0.0; }
+  double operator()(double r) const {
+    return r < 3.0 * sigma ? std::exp(-0.5 * r * r / (sigma * sigma)) : 0.0;
+  }
 };
 
 /// Cubic B-spline (Monaghan & Lattanzio 1985) with support R = 2h, q = 2r/R:

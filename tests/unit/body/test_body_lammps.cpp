@@ -3,13 +3,13 @@
 // and its Evaluator, for the native styles on periodic (orthogonal, triclinic) and free
 // configurations, and after a write/read of the model file.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <random>
-#include <unistd.h>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -37,7 +37,8 @@ Atoms fcc(int n, double a, double noise, int ntypes, unsigned seed) {
         for (const auto& b : basis) {
           at.id.push_back(++id);
           at.type.push_back(ut(rng));
-          for (int c = 0; c < 3; ++c) at.x.push_back(((c == 0 ? i : c == 1 ? j : k) + b[c]) * a + noise * a * u(rng));
+          for (int c = 0; c < 3; ++c)
+            at.x.push_back(((c == 0 ? i : c == 1 ? j : k) + b[c]) * a + noise * a * u(rng));
         }
   at.type_mass.assign(static_cast<std::size_t>(ntypes + 1), 1.0);
   return at;
@@ -89,32 +90,37 @@ void compare(const std::string& commands, const Atoms& atoms, const char* label)
   Evaluator ev(b);
   const Evaluation e = ev.reference();
   const double ferr = test::max_norm_relative_error(e.forces, ref.force);
-  std::printf("  [%s, %s] %zu atoms: force error %.2e, energy %.12g vs LAMMPS %.12g\n", label, pot->style().c_str(),
-              atoms.size(), ferr, e.energy, ref.total_energy);
+  std::printf("  [%s, %s] %zu atoms: force error %.2e, energy %.12g vs LAMMPS %.12g\n", label,
+              pot->style().c_str(), atoms.size(), ferr, e.energy, ref.total_energy);
   // same double-precision formulas, different summation order: round-off (issue: 1e-9)
   EXPECT_LT(ferr, 1e-9) << label;
   EXPECT_TRUE(test::close(e.energy, ref.total_energy, {0, 1e-9})) << label;
   // the model file rebuilds the same potential from its stored lines and embedded files
-  const auto path = std::filesystem::temp_directory_path() / (std::string("pdcg_body_lammps_") + std::to_string(::getpid()) + ".h5");
+  const auto path = std::filesystem::temp_directory_path() /
+                    (std::string("pdcg_body_lammps_") + std::to_string(::getpid()) + ".h5");
   write_body(b, path);
   const Body c = read_body(path);
   std::filesystem::remove(path);
   Evaluator ev2(c);
   const Evaluation e2 = ev2.reference();
-  EXPECT_LT(test::max_norm_relative_error(e2.forces, ref.force), 1e-9) << label << " after read_body";
+  EXPECT_LT(test::max_norm_relative_error(e2.forces, ref.force), 1e-9)
+      << label << " after read_body";
 }
 
-const char* kLJ = "units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 2 2 0.8 0.9\n"
-                  "pair_modify mix arithmetic\n";
+const char* kLJ =
+    "units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 2 2 0.8 0.9\n"
+    "pair_modify mix arithmetic\n";
 const char* kMorse = "units metal\npair_style morse 6.0\npair_coeff * * 0.34 1.36 2.85\n";
 const char* kEam = "units metal\npair_style eam\npair_coeff 1 1 Cu_u3.eam\n";
 const char* kAlloy = "units metal\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Al Cu\n";
 const char* kFs = "units metal\npair_style eam/fs\npair_coeff * * AlFe_mm.eam.fs Al Fe\n";
 const char* kHarmonic =
-    "units lj\natom_style bond\npair_style lj/cut 2.5\npair_coeff * * 1.0 1.0\nbond_style harmonic\n"
+    "units lj\natom_style bond\npair_style lj/cut 2.5\npair_coeff * * 1.0 1.0\nbond_style "
+    "harmonic\n"
     "bond_coeff 1 100.0 1.05\nspecial_bonds lj 0.0 0.5 0.8\n";
 const char* kFene =
-    "units lj\natom_style bond\npair_style lj/cut 1.122462048309373\npair_coeff * * 1.0 1.0\npair_modify shift yes\n"
+    "units lj\natom_style bond\npair_style lj/cut 1.122462048309373\npair_coeff * * 1.0 "
+    "1.0\npair_modify shift yes\n"
     "bond_style fene\nbond_coeff 1 30.0 1.5 1.0 1.0\nspecial_bonds fene\n";
 
 struct Case {
@@ -128,9 +134,9 @@ struct Case {
 }  // namespace
 
 TEST(BodyVsLammps, NativeStylesPeriodicTriclinicAndFree) {
-  const Case cases[] = {{"lj/cut", kLJ, 1.5599, 2, false},   {"morse", kMorse, 3.615, 1, false},
-                        {"eam", kEam, 3.615, 1, false},       {"eam/alloy", kAlloy, 3.85, 2, false},
-                        {"eam/fs", kFs, 3.9, 2, false},       {"harmonic", kHarmonic, 1.5599, 1, true},
+  const Case cases[] = {{"lj/cut", kLJ, 1.5599, 2, false}, {"morse", kMorse, 3.615, 1, false},
+                        {"eam", kEam, 3.615, 1, false},    {"eam/alloy", kAlloy, 3.85, 2, false},
+                        {"eam/fs", kFs, 3.9, 2, false},    {"harmonic", kHarmonic, 1.5599, 1, true},
                         {"fene", kFene, 1.5599, 1, true}};
   unsigned seed = 100;
   for (const auto& c : cases) {

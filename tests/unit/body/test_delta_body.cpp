@@ -36,7 +36,8 @@ std::vector<double> deform_randomly(const Body& b, double amp, unsigned seed) {
 
 TEST(DeltaBody, ForcesAreMinusEnergyGradientOnFreeCluster) {
   auto pot = std::make_shared<test::Glue>(3.0, 1.0, 1.5, 1.8);
-  const Body b = make_delta_body(test::cubic_lattice(4, 4, 3, 1.0, 0.05, false), pot, spec_for_tests());
+  const Body b =
+      make_delta_body(test::cubic_lattice(4, 4, 3, 1.0, 0.05, false), pot, spec_for_tests());
   Evaluator ev(b);
   std::vector<double> y = deform_randomly(b, 0.08, 3);
   const Evaluation e = ev.deformed(y);
@@ -58,7 +59,8 @@ TEST(DeltaBody, ForcesAreMinusEnergyGradientOnFreeCluster) {
 
 TEST(DeltaBody, LinearAndAngularMomentumBalanceOnFreeBody) {
   auto pot = std::make_shared<test::Glue>(3.0, 1.0, 1.5, 1.8);
-  const Body b = make_delta_body(test::cubic_lattice(5, 4, 4, 1.0, 0.05, false), pot, spec_for_tests());
+  const Body b =
+      make_delta_body(test::cubic_lattice(5, 4, 4, 1.0, 0.05, false), pot, spec_for_tests());
   Evaluator ev(b);
   const std::vector<double> y = deform_randomly(b, 0.1, 5);
   const Evaluation e = ev.deformed(y);
@@ -80,7 +82,8 @@ TEST(DeltaBody, LinearAndAngularMomentumBalanceOnFreeBody) {
 
 TEST(DeltaBody, Objectivity) {
   auto pot = std::make_shared<test::Glue>(3.0, 1.0, 1.5, 1.8);
-  const Body b = make_delta_body(test::cubic_lattice(4, 4, 4, 1.0, 0.05, false), pot, spec_for_tests());
+  const Body b =
+      make_delta_body(test::cubic_lattice(4, 4, 4, 1.0, 0.05, false), pot, spec_for_tests());
   Evaluator ev(b);
   const std::vector<double> y = deform_randomly(b, 0.1, 9);
   const Evaluation e1 = ev.deformed(y);
@@ -90,7 +93,8 @@ TEST(DeltaBody, Objectivity) {
   const Eigen::Matrix3d Q = test::random_rotation(rng);
   std::vector<double> yq(y.size()), fq(y.size());
   for (std::size_t i = 0; i < b.size(); ++i) {
-    const Eigen::Vector3d r = Q * Eigen::Vector3d(y[3 * i], y[3 * i + 1], y[3 * i + 2]) + Eigen::Vector3d(3, -1, 2);
+    const Eigen::Vector3d r =
+        Q * Eigen::Vector3d(y[3 * i], y[3 * i + 1], y[3 * i + 2]) + Eigen::Vector3d(3, -1, 2);
     const Eigen::Vector3d g = Q * Eigen::Vector3d(f1[3 * i], f1[3 * i + 1], f1[3 * i + 2]);
     for (int k = 0; k < 3; ++k) {
       yq[3 * i + k] = r[k];
@@ -125,7 +129,8 @@ TEST(DeltaBody, HomogeneousDeformationOfSpringLatticeMatchesClosedForm) {
       double psi = 0;
       for (int k = 0; k < 3; ++k) psi += 0.5 * c * std::pow(h * F.col(k).norm() - r0, 2);
       // sums of N·6 terms: round-off
-      EXPECT_TRUE(test::close(energy_density(b, e), psi / (h * h * h), {0, 1e-12})) << "triclinic " << triclinic;
+      EXPECT_TRUE(test::close(energy_density(b, e), psi / (h * h * h), {0, 1e-12}))
+          << "triclinic " << triclinic;
       EXPECT_TRUE(test::close(b.reference_volume(), 60 * h * h * h, {0, 1e-14}));
       // homogeneous deformation of a perfect periodic lattice: no net force on any atom
       double fmax = 0;

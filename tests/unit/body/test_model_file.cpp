@@ -32,12 +32,13 @@ TEST(ModelFile, RoundTripEvaluatesIdentically) {
   std::filesystem::create_directories(dir);
   const auto path = dir / "b.h5";
   write_body(b, path);
-  const Body c = read_body(path, [&](const atomistic::PotentialSpec& s, const std::vector<EmbeddedFile>& files) {
-    EXPECT_EQ(s.lines, spec.lines);
-    EXPECT_EQ(files.size(), 1u);
-    EXPECT_EQ(files[0].contents, "line one\nline two\n");
-    return std::shared_ptr<const atomistic::Potential>(pot);
-  });
+  const Body c = read_body(
+      path, [&](const atomistic::PotentialSpec& s, const std::vector<EmbeddedFile>& files) {
+        EXPECT_EQ(s.lines, spec.lines);
+        EXPECT_EQ(files.size(), 1u);
+        EXPECT_EQ(files[0].contents, "line one\nline two\n");
+        return std::shared_ptr<const atomistic::Potential>(pot);
+      });
   EXPECT_EQ(c.kind, BodyKind::statistical);
   EXPECT_EQ(c.id, b.id);
   EXPECT_EQ(c.families.neighbor, b.families.neighbor);

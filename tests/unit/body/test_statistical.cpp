@@ -49,7 +49,8 @@ TEST(Statistical, GaussHermiteIntegratesMomentsOfTheNormal) {
       if (m > 0) dfact *= 2 * m - 1;
       double s = 0;
       for (int i = 0; i < n; ++i) s += w[i] * std::pow(z[i], 2 * m);
-      EXPECT_TRUE(test::close(s, dfact, {0, 1e-12})) << "n " << n << " m " << m;  // eigen-solver round-off
+      EXPECT_TRUE(test::close(s, dfact, {0, 1e-12}))
+          << "n " << n << " m " << m;  // eigen-solver round-off
     }
   }
   EXPECT_THROW(gauss_hermite(0, z, w), InputError);
@@ -60,7 +61,8 @@ TEST(Statistical, HarmonicChainClosedForm) {
   const int n = 12;
   const double a = 1.0, h = 0.93, c = 3.0;
   auto pot = std::make_shared<test::Springs>(c, h, 1.5 * a);
-  Body b = make_delta_body(chain(n, a), pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
+  Body b =
+      make_delta_body(chain(n, a), pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
   ASSERT_EQ(b.families.bonds(), 2u * n);
   Statistics s;
   s.covariance.assign(9 * n, 0.0);
@@ -86,10 +88,13 @@ TEST(Statistical, HarmonicChainClosedForm) {
         const int j = (i + 1) % n;
         const double dbar = stretch * a;
         // the deformation maps the fluctuations too (conforming): σ → stretch·σ
-        expect += 0.5 * c * (std::pow(dbar - h, 2) + std::pow(stretch * sigma[i], 2) + std::pow(stretch * sigma[j], 2));
+        expect += 0.5 * c *
+                  (std::pow(dbar - h, 2) + std::pow(stretch * sigma[i], 2) +
+                   std::pow(stretch * sigma[j], 2));
       }
       // Gauss–Hermite of order ≥ 2 is exact for quadratics: round-off only
-      EXPECT_TRUE(test::close(e.energy, expect, {0, 1e-12})) << "order " << order << " stretch " << stretch;
+      EXPECT_TRUE(test::close(e.energy, expect, {0, 1e-12}))
+          << "order " << order << " stretch " << stretch;
     }
   }
 }
@@ -98,7 +103,8 @@ TEST(Statistical, SamplingConvergesAsInverseSquareRoot) {
   const int n = 10;
   const double a = 1.0, h = 0.93, c = 3.0, sigma = 0.05;
   auto pot = std::make_shared<test::Springs>(c, h, 1.5 * a);
-  Body b = make_delta_body(chain(n, a), pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
+  Body b =
+      make_delta_body(chain(n, a), pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
   const double expect = n * 0.5 * c * (std::pow(a - h, 2) + 2 * sigma * sigma);
   std::vector<double> errs;
   for (std::int64_t S : {100, 2500}) {
@@ -114,7 +120,7 @@ TEST(Statistical, SamplingConvergesAsInverseSquareRoot) {
   // the linear term Σ_b Δ_b vanishes around the ring; Var(Δ_b²) = 8σ⁴ and adjacent bonds share
   // an atom, Cov(Δ_b², Δ_{b+1}²) = 2 Cov(Δ_b, Δ_{b+1})² = 2σ⁴, so Var U = (c²/4)·12nσ⁴.
   const double sd1 = 0.5 * c * std::sqrt(n * (8 + 4) * std::pow(sigma, 4));
-  EXPECT_LT(errs[0], 5 * sd1 / std::sqrt(100.0));    // 5 standard errors: fails with p < 1e-6
+  EXPECT_LT(errs[0], 5 * sd1 / std::sqrt(100.0));  // 5 standard errors: fails with p < 1e-6
   EXPECT_LT(errs[1], 5 * sd1 / std::sqrt(2500.0));
 }
 

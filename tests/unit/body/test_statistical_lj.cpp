@@ -55,7 +55,8 @@ atomistic::Atoms fcc(int n, double a) {
         for (const auto& b : basis) {
           at.id.push_back(id++);
           at.type.push_back(1);
-          at.x.insert(at.x.end(), {(i + b[0] + 0.25) * a, (j + b[1] + 0.25) * a, (k + b[2] + 0.25) * a});
+          at.x.insert(at.x.end(),
+                      {(i + b[0] + 0.25) * a, (j + b[1] + 0.25) * a, (k + b[2] + 0.25) * a});
         }
   at.type_mass = {NAN, 1.0};
   return at;
@@ -78,8 +79,10 @@ TEST(StatisticalLJ, CubatureConvergesWithOrderAndSamplingAsInverseSqrtN) {
     Statistics base = isotropic_gaussian(b, width);
     base.order = 16;
     const double ref = energy(base);
-    std::printf("statistical LJ fcc (32 atoms, a = 1.5874, r_c = 2.5, %s, width %.2f): E/N (order 16) = %.15f\n",
-                shifted ? "shifted" : "unshifted", width, ref);
+    std::printf(
+        "statistical LJ fcc (32 atoms, a = 1.5874, r_c = 2.5, %s, width %.2f): E/N (order 16) = "
+        "%.15f\n",
+        shifted ? "shifted" : "unshifted", width, ref);
     std::printf("  cubature order | |E/N - ref| | time [ms]\n");
     std::vector<double> err;
     for (int order : {1, 2, 3, 4, 6, 8, 10, 12}) {
@@ -87,7 +90,8 @@ TEST(StatisticalLJ, CubatureConvergesWithOrderAndSamplingAsInverseSqrtN) {
       s.order = order;
       const auto t0 = std::chrono::steady_clock::now();
       const double e = energy(s);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       err.push_back(std::abs(e - ref));
       std::printf("  %14d | %.3e   | %.1f\n", order, err.back(), ms);
     }

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <Eigen/Dense>
-
 #include <cmath>
 #include <memory>
 #include <random>
@@ -69,8 +68,8 @@ class Glue final : public atomistic::Potential {
 
 /// Simple cubic lattice n0×n1×n2 of spacing h, random displacements of amplitude `jitter`,
 /// types alternating 1/2, mass 1 (type 1) and 2 (type 2).
-inline atomistic::Atoms cubic_lattice(int n0, int n1, int n2, double h, double jitter, bool periodic,
-                                      unsigned seed = 7) {
+inline atomistic::Atoms cubic_lattice(int n0, int n1, int n2, double h, double jitter,
+                                      bool periodic, unsigned seed = 7) {
   atomistic::Atoms a;
   a.box.lo = {0, 0, 0};
   a.box.hi = {n0 * h, n1 * h, n2 * h};
@@ -83,7 +82,8 @@ inline atomistic::Atoms cubic_lattice(int n0, int n1, int n2, double h, double j
       for (int k = 0; k < n2; ++k) {
         a.id.push_back(id++);
         a.type.push_back(1 + static_cast<int>(id % 2));
-        a.x.insert(a.x.end(), {(i + 0.5) * h + u(rng), (j + 0.5) * h + u(rng), (k + 0.5) * h + u(rng)});
+        a.x.insert(a.x.end(),
+                   {(i + 0.5) * h + u(rng), (j + 0.5) * h + u(rng), (k + 0.5) * h + u(rng)});
       }
   a.type_mass = {NAN, 1.0, 2.0};
   return a;

@@ -2,6 +2,8 @@
 // forces and per-atom energies; pdcg atoms2pd / forces / energy must reproduce them. Bad input
 // gives exit code 2 and a message naming the values.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -12,9 +14,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "pdcg_test.hpp"
 
@@ -101,7 +100,8 @@ double compare_forces(const std::map<long, std::array<double, 3>>& pd, const Fra
     }
   }
   const double err = pdcg::test::max_norm_relative_error(a, e);
-  std::printf("  forces vs LAMMPS dump: max-norm relative error %.2e over %zu atoms\n", err, ref.f.size());
+  std::printf("  forces vs LAMMPS dump: max-norm relative error %.2e over %zu atoms\n", err,
+              ref.f.size());
   return err;
 }
 
@@ -129,6 +129,7 @@ compute pe all pe/atom
 dump d all custom 1 dump.tri id type x y z fx fy fz c_pe
 dump_modify d format float %.17g
 run 0
+write_data data.tri
 displace_atoms all random 0.02 0.02 0.02 99
 run 1
 )");
@@ -155,7 +156,9 @@ run 1
   void TearDown() override {
     if (!dir.empty()) fs::remove_all(dir);
   }
-  void write(const std::string& name, const std::string& text) { std::ofstream(dir / name) << text; }
+  void write(const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+  }
   std::string p(const std::string& name) const { return (dir / name).string(); }
   fs::path dir;
 };
@@ -164,7 +167,7 @@ run 1
 
 TEST_F(BodyCli, ForcesEqualLammpsAtReferenceAndDeformedFrames) {
   auto r = cli("atoms2pd --input " + p("dump.tri") + " --frame 0 --potential " + p("pot.lj") +
-                " --density delta --family-cutoff 2.8 -o " + p("body.h5"));
+               " --density delta --family-cutoff 2.8 -o " + p("body.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto ref = read_dump(dir / "dump.tri");
   ASSERT_EQ(ref.size(), 2u);
@@ -173,14 +176,22 @@ TEST_F(BodyCli, ForcesEqualLammpsAtReferenceAndDeformedFrames) {
   // same formulas in double precision; issue: 1e-9 relative
   EXPECT_LT(compare_forces(read_csv(dir / "f0.csv"), ref[0]), 1e-9);
   // deformed: frame 1 (wrapped positions, atoms may have crossed the boundary)
-  r = cli("forces " + p("body.h5") + " --deformed " + p("dump.tri") + " --frame 1 -o " + p("f1.csv"));
+  r = cli("forces " + p("body.h5") + " --deformed " + p("dump.tri") + " --frame 1 -o " +
+          p("f1.csv"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_LT(compare_forces(read_csv(dir / "f1.csv"), ref[1]), 1e-9);
+  // the same configuration from a data file (wrapped positions + image flags, Masses section)
+  r = cli("atoms2pd --input " + p("data.tri") + " --potential " + p("pot.lj") + " -o " +
+          p("bd.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = cli("forces " + p("bd.h5") + " -o " + p("fd.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_LT(compare_forces(read_csv(dir / "fd.csv"), ref[0]), 1e-9);
 }
 
 TEST_F(BodyCli, EnergyUnderHomogeneousDeformationEqualsLammps) {
   auto r = cli("atoms2pd --input " + p("dump.orth") + " --potential " + p("pot.lj") +
-                " --density delta --family-cutoff 2.8 -o " + p("orth.h5"));
+               " --density delta --family-cutoff 2.8 -o " + p("orth.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto ref = read_dump(dir / "dump.orth");
   ASSERT_EQ(ref.size(), 2u);
@@ -190,7 +201,10 @@ TEST_F(BodyCli, EnergyUnderHomogeneousDeformationEqualsLammps) {
   r = cli("energy " + p("orth.h5") + " --F \"1 0 0 0 1 0 0 0 1\" --json");
   ASSERT_EQ(r.code, 0) << r.out;
   double e = 0, w = 0, v = 0;
-  ASSERT_EQ(std::sscanf(r.out.c_str(), "{\"energy\": %lf, \"energy_density\": %lf, \"volume\": %lf}", &e, &w, &v), 3) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str(),
+                        "{\"energy\": %lf, \"energy_density\": %lf, \"volume\": %lf}", &e, &w, &v),
+            3)
+      << r.out;
   EXPECT_TRUE(pdcg::test::close(e, U0, {0, 1e-9}));  // round-off; pe/atom printed with 17 digits
   EXPECT_TRUE(pdcg::test::close(w * v, e, {0, 1e-15}));
   const double L = 4 * std::cbrt(4 / 0.8442);  // box edge of `lattice fcc 0.8442`, 4 cells
@@ -202,22 +216,33 @@ TEST_F(BodyCli, EnergyUnderHomogeneousDeformationEqualsLammps) {
 }
 
 TEST_F(BodyCli, HomogenizeRescaleStatisticalAndBadInput) {
-  ASSERT_EQ(cli("atoms2pd --input " + p("dump.tri") + " --potential " + p("pot.lj") + " -o " + p("b.h5")).code, 0);
+  ASSERT_EQ(
+      cli("atoms2pd --input " + p("dump.tri") + " --potential " + p("pot.lj") + " -o " + p("b.h5"))
+          .code,
+      0);
   // homogenise and rescale keep the energy density under a homogeneous F
-  auto r = cli("homogenize " + p("b.h5") + " --kernel wendland-c2 --width 3 --spacing 1.3 -o " + p("h.h5"));
+  auto r = cli("homogenize " + p("b.h5") + " --kernel wendland-c2 --width 3 --spacing 1.3 -o " +
+               p("h.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
   r = cli("rescale " + p("h.h5") + " --factor 3.5 -o " + p("r.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
+  r = cli("info " + p("r.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("rescaled body, dimension 3, 256 points"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("horizon 8.75, epsilon 3.5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("kernel wendland-c2"), std::string::npos) << r.out;
   const std::string F = " --F \"1.1 0.05 0 0 0.95 0.02 0 0 1.03\" --json";
   double w0 = 0, w1 = 0, e;
   r = cli("energy " + p("b.h5") + F);
-  ASSERT_EQ(std::sscanf(r.out.c_str(), "{\"energy\": %lf, \"energy_density\": %lf", &e, &w0), 2) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "{\"energy\": %lf, \"energy_density\": %lf", &e, &w0), 2)
+      << r.out;
   r = cli("energy " + p("r.h5") + F);
-  ASSERT_EQ(std::sscanf(r.out.c_str(), "{\"energy\": %lf, \"energy_density\": %lf", &e, &w1), 2) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "{\"energy\": %lf, \"energy_density\": %lf", &e, &w1), 2)
+      << r.out;
   EXPECT_TRUE(pdcg::test::close(w1, w0, {0, 1e-12}));  // W_ε(F) = W(F), round-off
   // statistical body from two frames, empirical: energy = mean of the two frames' energies
   r = cli("atoms2pd --input " + p("dump.tri") + " --frames 0:2 --potential " + p("pot.lj") +
-           " --density statistical --statistics empirical --family-cutoff 2.8 -o " + p("s.h5"));
+          " --density statistical --statistics empirical --family-cutoff 2.8 -o " + p("s.h5"));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto ref = read_dump(dir / "dump.tri");
   double Uavg = 0;
@@ -228,32 +253,46 @@ TEST_F(BodyCli, HomogenizeRescaleStatisticalAndBadInput) {
   EXPECT_TRUE(pdcg::test::close(e, Uavg, {0, 1e-9}));
 
   // --- bad input: exit 2 and the values named
-  r = cli("atoms2pd --input " + p("dump.tri") + " --frame 5 --potential " + p("pot.lj") + " -o " + p("x.h5"));
+  r = cli("atoms2pd --input " + p("dump.tri") + " --frame 5 --potential " + p("pot.lj") + " -o " +
+          p("x.h5"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("frame range out of bounds"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("2 frames"), std::string::npos) << r.out;
   write("nomass.lj", "units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n");
-  r = cli("atoms2pd --input " + p("dump.tri") + " --potential " + p("nomass.lj") + " -o " + p("x.h5"));
+  r = cli("atoms2pd --input " + p("dump.tri") + " --potential " + p("nomass.lj") + " -o " +
+          p("x.h5"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("mass of type 1"), std::string::npos) << r.out;
   write("two.lj", "units lj\nmass * 1.0\npair_style lj/cut 2.5\npair_coeff * * 1.0 1.0\n");
-  write("metal.lj", "units metal\nmass 1 1.0\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Al Cu\n");
-  r = cli("atoms2pd --input " + p("dump.tri") + " --potential " + p("metal.lj") + " -o " + p("x.h5"));
+  write("metal.lj",
+        "units metal\nmass 1 1.0\npair_style eam/alloy\npair_coeff * * AlCu.eam.alloy Al Cu\n");
+  r = cli("atoms2pd --input " + p("dump.tri") + " --potential " + p("metal.lj") + " -o " +
+          p("x.h5"));
   EXPECT_EQ(r.code, 2) << r.out;  // 2 elements mapped, the dump has 1 type
   EXPECT_NE(r.out.find("AlCu.eam.alloy"), std::string::npos) << r.out;
+  write(
+      "metal.dump",
+      "ITEM: UNITS\nmetal\nITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n"
+      "0 5\n0 5\n0 5\nITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 1 1 1\n");
+  r = cli("atoms2pd --input " + p("metal.dump") + " --potential " + p("pot.lj") + " -o " +
+          p("x.h5"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("different units"), std::string::npos) << r.out;
   r = cli("rescale " + p("b.h5") + " --factor 0 -o " + p("x.h5"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("rescaling factor must be positive"), std::string::npos) << r.out;
   r = cli("rescale " + p("b.h5") + " --factor -2 -o " + p("x.h5"));
   EXPECT_EQ(r.code, 2);
-  r = cli("homogenize " + p("b.h5") + " --kernel top-hat --width 0.5 --spacing 0.4 -o " + p("x.h5"));
+  r = cli("homogenize " + p("b.h5") + " --kernel top-hat --width 0.5 --spacing 0.4 -o " +
+          p("x.h5"));
   EXPECT_EQ(r.code, 0) << r.out;  // a warning, not an error
   EXPECT_NE(r.out.find("smaller than the lattice spacing"), std::string::npos) << r.out;
   r = cli("energy " + p("b.h5") + " --F \"-1 0 0 0 1 0 0 0 1\"");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("det F = -1"), std::string::npos) << r.out;
-  write("few.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 5\n0 5\n0 5\n"
-                    "ITEM: ATOMS id type x y z\n1 1 0 0 0\n7 1 1 1 1\n");
+  write("few.dump",
+        "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 5\n0 5\n0 5\n"
+        "ITEM: ATOMS id type x y z\n1 1 0 0 0\n7 1 1 1 1\n");
   r = cli("forces " + p("b.h5") + " --deformed " + p("few.dump") + " -o " + p("x.csv"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("does not hold the body's atoms"), std::string::npos) << r.out;

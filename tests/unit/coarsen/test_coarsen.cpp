@@ -8,6 +8,7 @@
 #include <random>
 
 #include "../body/toy_potentials.hpp"
+#include "pdcg/body/statistics.hpp"
 #include "pdcg/coarsen/homogenise.hpp"
 #include "pdcg/coarsen/rescale.hpp"
 #include "pdcg/core/error.hpp"
@@ -51,8 +52,10 @@ TEST(Homogenise, MassAndEnergyConservedForEveryKernelOnRotatedGrids) {
       const auto& hom = *h.homogenisation;
       // per-atom normalisation
       std::vector<double> wsum(b.size(), 0.0);
-      for (std::size_t c = 0; c < hom.atom.size(); ++c) wsum[static_cast<std::size_t>(hom.atom[c])] += hom.weight[c];
-      EXPECT_TRUE(test::all_close(wsum, std::vector<double>(b.size(), 1.0), {1e-14, 0}));  // round-off of a short sum
+      for (std::size_t c = 0; c < hom.atom.size(); ++c)
+        wsum[static_cast<std::size_t>(hom.atom[c])] += hom.weight[c];
+      EXPECT_TRUE(test::all_close(wsum, std::vector<double>(b.size(), 1.0),
+                                  {1e-14, 0}));  // round-off of a short sum
       double m = 0;
       for (double v : hom.mass) m += v;
       EXPECT_TRUE(test::close(m, total_mass(b), {0, 1e-12})) << name;  // round-off
@@ -64,7 +67,8 @@ TEST(Homogenise, MassAndEnergyConservedForEveryKernelOnRotatedGrids) {
         (void)evh.homogeneous(F);
         double Ubar = 0;
         for (double e : evh.point_energies()) Ubar += e;
-        EXPECT_TRUE(test::close(Ubar, U, {0, 1e-12})) << name << " periodic " << periodic;  // round-off
+        EXPECT_TRUE(test::close(Ubar, U, {0, 1e-12}))
+            << name << " periodic " << periodic;  // round-off
       }
     }
   }
@@ -118,7 +122,8 @@ TEST(Homogenise, ChainDensityAndEnergyCarryTheSameFactor) {
   }
   c.type_mass = {NAN, 2.0, 2.0};
   auto pot = std::make_shared<test::Springs>(2.0, 0.9, 1.5);
-  const Body b = make_delta_body(c, pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
+  const Body b =
+      make_delta_body(c, pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
   GridOptions g;
   g.spacing = 0.37;
   const Body h = homogenise_on_grid(b, make_kernel("cubic-bspline", 2.0), g);
@@ -213,5 +218,31 @@ TEST(Rescale, LatticeBodyOnCoarseGrid) {
   const Body h = homogenise_on_grid(r, make_kernel("wendland-c2", 1.7 * eps * hsp), g);
   ASSERT_EQ(h.homogenisation->size(), r.size());
   for (std::size_t p = 0; p < h.homogenisation->size(); ++p)
-    EXPECT_NEAR(h.homogenisation->mass[p] / h.homogenisation->volume[p], 1.0 / std::pow(hsp, 3), 1e-12);
+    EXPECT_NEAR(h.homogenisation->mass[p] / h.homogenisation->volume[p], 1.0 / std::pow(hsp, 3),
+                1e-12);
+}
+
+TEST(Rescale, StatisticalAndHomogenisedLayersKeepEnergyDensity) {
+  // widths scale with ε (covariances ε²), so the expected energy density is unchanged too;
+  // and homogenised point energies add up to the rescaled total.
+  auto pot = std::make_shared<test::Springs>(2.0, 0.95, 1.4);
+  Body b = make_delta_body(test::cubic_lattice(4, 4, 4, 1.0, 0.05, true), pot, spec());
+  Statistics s = isotropic_gaussian(b, 0.05);
+  s.order = 4;
+  make_statistical(b, s);
+  const Body h = homogenise_on_grid(b, make_kernel("cubic-bspline", 2.5),
+                                    GridOptions{0.9, Eigen::Matrix3d::Identity(), {0.2, 0.1, 0.3}});
+  Evaluator ev(b);
+  std::mt19937 rng(41);
+  for (const double eps : {2.0, 3.5, 8.0}) {
+    const Body r = rescale(h, eps);
+    Evaluator evr(r);
+    const Eigen::Matrix3d F = test::random_deformation(rng, 0.8, 1.25);
+    const double W = energy_density(b, ev.homogeneous(F));
+    const Evaluation er = evr.homogeneous(F);
+    EXPECT_TRUE(test::close(energy_density(r, er), W, {0, 1e-12})) << "eps " << eps;  // round-off
+    double Ep = 0;
+    for (double e : evr.point_energies()) Ep += e;
+    EXPECT_TRUE(test::close(Ep, er.energy, {0, 1e-12}));  // per-atom normalised weights
+  }
 }

@@ -1,0 +1,89 @@
+/// \file
+/// Static scenes for the BA correspondence solver (`pdcg run scene.yaml`).
+///
+/// Scene contract (issue 6):
+/// \code{.yaml}
+///   units: none            # lj | metal | real | si | none
+///   dimension: 2
+///   plane: strain          # strain | stress (2D only)
+///   geometry: {shape: rectangle, origin: [0, 0], size: [1, 1], spacing: 0.025,
+///              holes: [{center: [0.5, 0.5], radius: 0.2}], cracks: [{from: [0, 0.5], to: [0.2,
+///              0.5]}]}
+///   horizon: {factor: 3.015}            # or {value: 0.075}
+///   material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+///   boundary:
+///     - {name: left,  region: {x_max: 0.0},  displacement: {x: 0.0}}
+///     - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}
+///     - {name: right, region: {x_min: 1.0},  displacement: {x: "0.5*t"}}
+///     - {name: top,   region: {y_min: 1.0},  traction: [0.0, 0.0]}
+///   loading: {steps: 20}
+///   solver: {type: newton, tolerance: 1.0e-8, max_iterations: 30, linear: cholmod}
+///   output: {directory: out, every: 1}
+/// \endcode
+/// Extensions: solver.formulation (weak | energy), solver.correspondence
+/// (bond-associated | classical), solver.max_cutbacks. Regions select points by
+/// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
+/// Displacement and traction values are numbers (constant) or expressions in t.
+/// Unknown keys are errors listing the valid ones.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pdcg/core/units.hpp"
+#include "pdcg/solver/discretization.hpp"
+#include "pdcg/solver/model.hpp"
+#include "pdcg/solver/newton.hpp"
+
+namespace pdcg::scene {
+
+struct Region {
+  std::array<std::optional<double>, 3> min, max;
+  std::optional<solver::Vec3> point;
+};
+
+struct BoundaryCondition {
+  std::string name;
+  Region region;
+  bool is_traction = false;
+  std::array<std::string, 3> value_text;  ///< per component; empty = not given
+  std::array<std::function<double(double)>, 3> value;
+};
+
+struct Scene {
+  std::filesystem::path source;
+  UnitStyle units = UnitStyle::none;
+  int dimension = 2;
+  std::string plane = "strain";
+  solver::GridSpec geometry;
+  double horizon_factor = 3.015, horizon_value = 0.0;
+  double shear_modulus = 1.0, bulk_modulus = 10.0, density = 1.0;
+  std::vector<BoundaryCondition> boundary;
+  int steps = 20;
+  solver::NewtonOptions newton;
+  std::string linear_name = "umfpack";
+  solver::ModelOptions model;
+  std::filesystem::path output_directory = "out";
+  int output_every = 1;
+};
+
+/// Reads and validates a scene file. Throws InputError naming file, line and key.
+Scene load_scene(const std::filesystem::path& file);
+
+/// The fully resolved scene as YAML (every default written out).
+std::string resolved_yaml(const Scene& s);
+
+/// Point indices selected by a region (throws InputError if none).
+std::vector<int> select(const Scene& s, const solver::Discretization& body,
+                        const BoundaryCondition& bc);
+
+/// Runs the scene: per output step an HDF5 file (results_NNNN.h5) with the XDMF
+/// time series results.xdmf, reactions.csv and scene.resolved.yaml in the
+/// output directory (`out_override` replaces output.directory).
+void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_override = {});
+
+}  // namespace pdcg::scene

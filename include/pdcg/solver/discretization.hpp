@@ -1,0 +1,144 @@
+/// \file
+/// Discretisation of a body for the bond-associated (BA) correspondence solver.
+///
+/// Points x_i on a regular grid (cell centres, spacing Δx) with volumes
+/// V_i = Δx^d, horizon δ = m Δx (default m = 3.015), families
+///   H_i = { j ≠ i : |x_j − x_i| ≤ δ, bond (i, j) not crossing a pre-crack }
+/// in CSR. Two kinds of gradient stencils are precomputed from the reference
+/// configuration (DESIGN.md §2.6):
+///
+///  - point stencils (classical correspondence): members {i} ∪ H_i;
+///  - bond stencils (BA, Chen 2018; Chen & Spencer 2018): for each bond (i, j),
+///    B_ij = {i, j} ∪ (H_i ∩ H_j) (the points within δ of both ends).
+///
+/// On every stencil S centred at i the first-order PDDO (Madenci, Barut &
+/// Dorduncu 2019) with basis p(ξ) = {1, ξ₁, …, ξ_d} gives
+///   A_S = Σ_{m∈S} w(|ξ_m|) p(ξ_m) p(ξ_m)ᵀ V_m,   ξ_m = x_m − x_i,
+///   g_S^m = w(|ξ_m|) [A_S⁻¹ p(ξ_m)]_{1..d},      G_S^m = g_S^m V_m,
+/// and the stencil deformation gradient F_S = I + Σ_{m∈S} u_m ⊗ G_S^m, exact
+/// for linear displacement fields (Σ_m G^m = 0 and Σ_m ξ_m ⊗ G^m = I).
+/// w(r) = exp(−4 r²/δ²) by default (a parameter).
+///
+/// BA weights: φ_ij = |H_i ∩ H_j| / |H_i| (volumes, the point itself and the
+/// bond partner counted), normalised per point, φ̂_ij = φ_ij / Σ_j φ_ij V_j, so
+/// that Σ_j φ̂_ij V_j = 1 and the discrete energy Σ_i V_i Σ_j φ̂_ij Ψ(F_ij) V_j
+/// of a homogeneous deformation is exactly Ψ(F) Σ_i V_i.
+///
+/// Boundary: every point carries its boundary face vector s_k = Σ n_f |f| over
+/// the faces of its grid cell that lie on the body surface (outer boundary,
+/// hole, or crack face); Σ_k s_k ⊗ … is the discrete ∮ n dS used by the weak
+/// form (see model.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pdcg::solver {
+
+using Vec3 = Eigen::Vector3d;
+
+/// Influence function w(r; δ).
+using InfluenceFunction = std::function<double(double r, double delta)>;
+/// Madenci's Gaussian w(r) = exp(−4 r²/δ²).
+InfluenceFunction gaussian_influence();
+
+struct Hole {
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;
+};
+/// A straight pre-crack: the segment from–to in the xy-plane (in 3D: the plane
+/// through the segment parallel to z, through the whole thickness). Bonds that
+/// cross it are removed.
+struct Crack {
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+};
+
+/// A regular grid body: rectangle (2D) or box (3D) with holes and cracks.
+struct GridSpec {
+  int dimension = 2;
+  Vec3 origin = Vec3::Zero();
+  Vec3 size = Vec3::Ones();
+  double spacing = 0.025;
+  std::vector<Hole> holes;
+  std::vector<Crack> cracks;
+};
+
+/// Compressed sparse rows of integers (families).
+struct Csr {
+  std::vector<std::int64_t> offsets{0};
+  std::vector<int> index;
+  std::int64_t begin(std::size_t row) const { return offsets[row]; }
+  std::int64_t end(std::size_t row) const { return offsets[row + 1]; }
+  std::size_t rows() const { return offsets.size() - 1; }
+};
+
+/// Gradient stencils: stencil s has centre center[s], weight weight[s] (its
+/// share of the energy sum), members index[offsets[s] .. offsets[s+1]) and,
+/// per member, G^m (dimension doubles each, in `grad`, same order).
+struct Stencils {
+  std::vector<std::int64_t> offsets{0};
+  std::vector<int> index;
+  std::vector<double> grad;
+  std::vector<int> center;
+  std::vector<double> weight;
+  std::size_t size() const { return center.size(); }
+};
+
+struct DiscretizationOptions {
+  double horizon_factor = 3.015;  ///< δ = factor · Δx (ignored if horizon > 0)
+  double horizon = 0.0;           ///< absolute δ (> 0 overrides the factor)
+  InfluenceFunction influence = gaussian_influence();
+  /// A stencil whose scaled moment matrix has a reciprocal condition number
+  /// below this is ill-posed (error naming the point).
+  double min_reciprocal_condition = 1e-10;
+};
+
+class Discretization {
+ public:
+  /// Builds a regular-grid body. Throws InputError for bad geometry (spacing
+  /// ≤ 0, horizon < spacing, no points) and NumericalError naming the position
+  /// of a point whose (BA) family is too small for a well-posed g.
+  static Discretization grid(const GridSpec& spec, const DiscretizationOptions& opt = {});
+
+  /// Builds from given points (volumes, boundary face vectors), e.g. a model file.
+  static Discretization from_points(int dimension, std::vector<Vec3> x, std::vector<double> volume,
+                                    std::vector<Vec3> surface, double spacing,
+                                    std::vector<Crack> cracks, const DiscretizationOptions& opt);
+
+  int dimension() const { return dim_; }
+  std::size_t size() const { return x_.size(); }
+  double spacing() const { return dx_; }
+  double horizon() const { return delta_; }
+  const std::vector<Vec3>& positions() const { return x_; }
+  const std::vector<double>& volumes() const { return vol_; }
+  /// s_k: area-weighted outward normal of the body surface owned by point k.
+  const std::vector<Vec3>& surface() const { return surface_; }
+  const Csr& families() const { return families_; }
+  /// Classical (point) stencils, one per point, centre = point, weight V_i.
+  const Stencils& point_stencils() const { return point_; }
+  /// BA stencils, one per bond (i, j) in CSR order of families(),
+  /// weight V_i φ̂_ij V_j.
+  const Stencils& bond_stencils() const { return bond_; }
+  /// φ̂_ij per bond, in CSR order of families().
+  const std::vector<double>& bond_weights() const { return phi_hat_; }
+
+ private:
+  void build(const DiscretizationOptions& opt);
+  int dim_ = 2;
+  double dx_ = 0, delta_ = 0;
+  std::vector<Vec3> x_;
+  std::vector<double> vol_;
+  std::vector<Vec3> surface_;
+  std::vector<Crack> cracks_;
+  Csr families_;
+  Stencils point_, bond_;
+  std::vector<double> phi_hat_;
+};
+
+/// True if the segment a–b crosses the crack (xy-projection).
+bool crosses(const Crack& c, const Vec3& a, const Vec3& b);
+
+}  // namespace pdcg::solver

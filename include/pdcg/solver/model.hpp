@@ -1,0 +1,108 @@
+/// \file
+/// Residual and consistent tangent of the correspondence model on a
+/// Discretization (DESIGN.md §2.6).
+///
+/// Energy part (variational). With energy stencils S (BA bonds, or points for
+/// the classical model) of weights w_S,
+///   Π(u) = Σ_S w_S Ψ(F_S(u)),   F_S = I + Σ_{m∈S} u_m ⊗ G_S^m,
+///   Q_k  = ∂Π/∂u_k = Σ_{S∋k} w_S P(F_S) G_S^k,
+///   ∂Q_ka/∂u_nb = Σ_{S∋k,n} w_S Σ_JL A_aJbL(F_S) G_S^kJ G_S^nL   (symmetric).
+///
+/// Weak-form boundary term (after Madenci et al., CMAME 337 (2018) 598–631, and
+/// the seed). For a constant stress P the discrete energy gives Q_k = P b_k with
+///   b_k = Σ_{S∋k} w_S G_S^k,
+/// a discrete ∮ n dS smeared over a layer of thickness ~δ under the surface
+/// (b_k = 0 exactly in the interior because Σ_m G^m = 0 there). The continuum
+/// boundary integral ∮ (P n)·δu dS is, instead, carried by the surface points
+/// with their face vectors s_k. The weak form replaces the smeared boundary
+/// term by the surface one:
+///   f_k = Q_k − P(F̄_k) e_k,   e_k = b_k − s_k,
+/// with F̄_k the PDDO gradient on the point family. The correction vanishes in
+/// the interior (e_k = 0) and in the continuum limit of a smooth field; for
+/// any homogeneous deformation f_k = P s_k exactly, so a uniform state whose
+/// stress meets the tractions is an exact discrete solution (patch test),
+/// boundary layer included. The price: the tangent is unsymmetric in the
+/// boundary-layer rows (UMFPACK / LU).
+///
+/// Equilibrium: f(u) = f_ext (applied tractions t* times face areas).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <vector>
+
+#include "pdcg/solver/discretization.hpp"
+#include "pdcg/solver/material.hpp"
+
+namespace pdcg::solver {
+
+enum class Correspondence { bond_associated, classical };
+enum class BoundaryForm {
+  weak,   ///< Q − P(F̄) e (default; passes the homogeneous patch test)
+  energy  ///< Q only (variational, symmetric tangent; boundary layer at free edges)
+};
+
+struct ModelOptions {
+  Correspondence correspondence = Correspondence::bond_associated;
+  BoundaryForm boundary = BoundaryForm::weak;
+};
+
+/// Row-major sparse matrix of the full system (d·N × d·N, dof = d·point + component).
+using SparseRow = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+class Model {
+ public:
+  Model(const Discretization& body, const Material& material, ModelOptions options = {});
+
+  const Discretization& body() const { return *body_; }
+  const Material& material() const { return *material_; }
+  const ModelOptions& options() const { return opt_; }
+  int dimension() const { return d_; }
+  std::size_t dofs() const { return static_cast<std::size_t>(d_) * body_->size(); }
+  /// True when the tangent is symmetric (energy boundary form).
+  bool symmetric() const { return opt_.boundary == BoundaryForm::energy; }
+
+  /// Π(u) (energy part only). NaN if some F_S is inadmissible.
+  double energy(const Eigen::VectorXd& u) const;
+  /// Internal force f(u). Returns false if some F is inadmissible.
+  bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
+  /// Internal force and its tangent K = ∂f/∂u (pattern fixed at construction).
+  bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow& K) const;
+
+  /// Point deformation gradients: weighted mean of the energy stencils centred
+  /// at each point (BA: Σ_j φ̂_ij V_j F_ij; classical: F_i). 3×3 with the
+  /// in-plane block filled (2D: F₃₃ = 1).
+  std::vector<Mat3> point_deformation_gradients(const Eigen::VectorXd& u) const;
+  /// PDDO gradient on the point family, F̄_k (used by the weak form).
+  std::vector<Mat3> point_family_gradients(const Eigen::VectorXd& u) const;
+  /// e_k = b_k − s_k of the weak form (zero in the interior).
+  const std::vector<Vec3>& boundary_defect() const { return defect_; }
+  /// b_k = Σ_S w_S G_S^k.
+  const std::vector<Vec3>& smeared_normals() const { return smeared_; }
+
+ private:
+  Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;
+  bool evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const;
+
+  const Discretization* body_;
+  std::unique_ptr<Material> material_;
+  ModelOptions opt_;
+  int d_;
+  const Stencils* energy_;  // bond or point stencils
+  // Reverse index: for each point, the (stencil, member position) pairs holding it.
+  Csr member_of_;
+  std::vector<int> member_pos_;
+  std::vector<Vec3> smeared_, defect_;
+  std::vector<char> weak_row_;
+  // Point adjacency of the matrix pattern (sorted, CSR over points).
+  Csr adjacency_;
+  SparseRow pattern_;
+  // Scratch per energy stencil / per point (mutable: filled by evaluations).
+  mutable std::vector<Mat3> Ps_;
+  mutable std::vector<Tangent> As_;
+  mutable std::vector<Mat3> Pbar_;
+  mutable std::vector<Tangent> Abar_;
+};
+
+}  // namespace pdcg::solver

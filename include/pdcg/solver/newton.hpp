@@ -1,0 +1,113 @@
+/// \file
+/// Static equilibrium of a Model under prescribed displacements and tractions:
+/// Newton–Raphson with load stepping, a backtracking line search, automatic
+/// step cutback, and convergence on both the residual and the increment.
+///
+/// Unknowns: u (d·N). Prescribed components u_c = ū(t) are eliminated; the free
+/// components solve R_f(u) = f_int,f(u) − f_ext,f(t) = 0 with, per iteration,
+///   K_ff Δu_f = −R_f(u) − K_fc (ū(t) − u_c),   u ← u + α Δu,
+/// (the second term is the consistent predictor of a new load step). α halves
+/// until ‖R‖ decreases (Armijo, 1e-4). Converged when
+///   ‖R_f‖₂ ≤ tol · max(‖f_int‖₂, ‖f_ext‖₂)  and  ‖Δu_f‖₂ ≤ tol · max(‖u‖₂, Δx).
+/// A step that does not converge in max_iterations (or meets an inadmissible
+/// F, J ≤ 0) is restored and retried with half the load increment; the log
+/// says so. Linear solves: CHOLMOD (symmetric tangent, energy boundary form),
+/// UMFPACK (default for the unsymmetric weak form), Eigen SparseLU, or
+/// BiCGSTAB with an incomplete-LU preconditioner for large 3D problems.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pdcg/solver/model.hpp"
+
+namespace pdcg::solver {
+
+enum class LinearSolver { cholmod, umfpack, sparse_lu, bicgstab };
+LinearSolver parse_linear_solver(const std::string& name);  // throws InputError
+
+/// Prescribed displacement on a point set: component c (0..d−1) gets value(t)
+/// for each component that has a function.
+struct DisplacementSet {
+  std::string name;
+  std::vector<int> points;
+  std::array<std::function<double(double)>, 3> component;  ///< empty = free
+};
+
+/// Nominal (reference-configuration) traction t*(t) on a point set, applied as
+/// f_ext,k = t* dS_k, dS_k = max(0, s_k · n̂) with n̂ the mean outward normal of
+/// the set (faces of the set's cells on the surface facing n̂).
+struct TractionSet {
+  std::string name;
+  std::vector<int> points;
+  std::function<Vec3(double)> traction;
+};
+
+struct NewtonOptions {
+  int steps = 20;           ///< nominal load steps, t = 0 … 1
+  double tolerance = 1e-8;  ///< relative, for residual and increment
+  int max_iterations = 30;  ///< per load step
+  int max_cutbacks = 10;    ///< halvings of the nominal step
+  bool line_search = true;
+  LinearSolver linear = LinearSolver::umfpack;
+};
+
+struct StepReport {
+  int step = 0;    ///< converged step number (1, 2, …)
+  double t = 0.0;  ///< load factor
+  int iterations = 0;
+  double residual = 0.0;  ///< final relative residual
+  std::vector<double> residual_history;
+  int cutbacks = 0;               ///< cutbacks spent on this step
+  double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
+  double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
+};
+
+class StaticSolver {
+ public:
+  StaticSolver(const Model& model, std::vector<DisplacementSet> displacement,
+               std::vector<TractionSet> traction, NewtonOptions options);
+
+  /// Runs t = 0 → 1. on_step is called after every converged step. Throws
+  /// NumericalError if the step had to be cut back past max_cutbacks, and
+  /// InputError if no displacement constraint removes the rigid motions.
+  void run(const std::function<void(const StepReport&)>& on_step = {});
+  /// Solves one load factor t from the current state (single Newton solve,
+  /// with cutbacks between the current and the target t).
+  void advance_to(double t, const std::function<void(const StepReport&)>& on_step = {});
+
+  const Eigen::VectorXd& displacement() const { return u_; }
+  double load_factor() const { return t_; }
+  /// Reaction (Σ f_int − f_ext over the set's points) of displacement set i.
+  Vec3 reaction(std::size_t set) const;
+  const Eigen::VectorXd& internal_force() const { return f_; }
+  const std::vector<DisplacementSet>& displacement_sets() const { return dsets_; }
+
+ private:
+  void external_force(double t, Eigen::VectorXd& fext) const;
+  bool newton(double t_target, StepReport& rep);
+
+  const Model* model_;
+  std::vector<DisplacementSet> dsets_;
+  std::vector<TractionSet> tsets_;
+  std::vector<std::vector<double>> traction_area_;
+  NewtonOptions opt_;
+  std::vector<int> free_index_;  // dof -> free index or −1
+  std::vector<int> free_dofs_;
+  std::vector<int> prescribed_by_;  // dof -> (set << 2 | component) or −1
+  Eigen::VectorXd u_, f_;
+  double t_ = 0.0;
+  int step_ = 0;
+  SparseRow K_;
+  // reduced pattern gather map
+  std::vector<std::int64_t> red_map_;
+  SparseRow Kff_;
+  struct Solvers;
+  std::shared_ptr<Solvers> solvers_;
+};
+
+}  // namespace pdcg::solver

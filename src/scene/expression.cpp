@@ -1,0 +1,143 @@
+#include "pdcg/scene/expression.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+#include "pdcg/core/error.hpp"
+
+namespace pdcg::scene {
+namespace {
+
+using Fn = std::function<double(double)>;
+
+class Parser {
+ public:
+  Parser(const std::string& s, const std::string& where) : s_(s), where_(where) {}
+  Fn parse() {
+    Fn f = expr();
+    skip();
+    if (p_ != s_.size()) fail("unexpected character");
+    return f;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) {
+    throw InputError("cannot parse the expression: " + what + " at position " +
+                     std::to_string(p_ + 1))
+        .key(where_)
+        .value(s_)
+        .expected(
+            "a number or an expression in t, e.g. \"0.5*t\" (+ - * / ^, sin cos exp log sqrt abs)");
+  }
+  void skip() {
+    while (p_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[p_]))) ++p_;
+  }
+  bool eat(char c) {
+    skip();
+    if (p_ < s_.size() && s_[p_] == c) {
+      ++p_;
+      return true;
+    }
+    return false;
+  }
+  Fn expr() {
+    Fn a = term();
+    for (;;) {
+      if (eat('+')) {
+        Fn b = term();
+        a = [a, b](double t) { return a(t) + b(t); };
+      } else if (eat('-')) {
+        Fn b = term();
+        a = [a, b](double t) { return a(t) - b(t); };
+      } else {
+        return a;
+      }
+    }
+  }
+  Fn term() {
+    Fn a = unary();
+    for (;;) {
+      if (eat('*')) {
+        Fn b = unary();
+        a = [a, b](double t) { return a(t) * b(t); };
+      } else if (eat('/')) {
+        Fn b = unary();
+        a = [a, b](double t) { return a(t) / b(t); };
+      } else {
+        return a;
+      }
+    }
+  }
+  // power binds tighter than unary minus: -2^2 = -4; right-associative.
+  Fn power() {
+    Fn a = primary();
+    if (eat('^')) {
+      Fn b = unary();
+      return [a, b](double t) { return std::pow(a(t), b(t)); };
+    }
+    return a;
+  }
+  Fn unary() {
+    if (eat('-')) {
+      Fn a = unary();
+      return [a](double t) { return -a(t); };
+    }
+    if (eat('+')) return unary();
+    return power();
+  }
+  Fn primary() {
+    skip();
+    if (eat('(')) {
+      Fn a = expr();
+      if (!eat(')')) fail("missing ')'");
+      return a;
+    }
+    if (p_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[p_])) || s_[p_] == '.')) {
+      const char* b = s_.c_str() + p_;
+      char* e = nullptr;
+      const double v = std::strtod(b, &e);
+      if (e == b) fail("bad number");
+      p_ += static_cast<std::size_t>(e - b);
+      return [v](double) { return v; };
+    }
+    std::string name;
+    while (p_ < s_.size() && (std::isalpha(static_cast<unsigned char>(s_[p_])) || s_[p_] == '_'))
+      name += s_[p_++];
+    if (name == "t") return [](double t) { return t; };
+    if (name == "pi") return [](double) { return M_PI; };
+    double (*f)(double) = nullptr;
+    if (name == "sin")
+      f = [](double x) { return std::sin(x); };
+    else if (name == "cos")
+      f = [](double x) { return std::cos(x); };
+    else if (name == "tan")
+      f = [](double x) { return std::tan(x); };
+    else if (name == "exp")
+      f = [](double x) { return std::exp(x); };
+    else if (name == "log")
+      f = [](double x) { return std::log(x); };
+    else if (name == "sqrt")
+      f = [](double x) { return std::sqrt(x); };
+    else if (name == "abs")
+      f = [](double x) { return std::abs(x); };
+    if (!f)
+      fail(name.empty() ? "expected a number, t or a function" : "unknown name '" + name + "'");
+    if (!eat('(')) fail("expected '(' after " + name);
+    Fn a = expr();
+    if (!eat(')')) fail("missing ')'");
+    return [f, a](double t) { return f(a(t)); };
+  }
+  const std::string& s_;
+  std::string where_;
+  std::size_t p_ = 0;
+};
+
+}  // namespace
+
+std::function<double(double)> parse_expression(const std::string& text, const std::string& where) {
+  return Parser(text, where).parse();
+}
+
+}  // namespace pdcg::scene

@@ -1,0 +1,341 @@
+#include "pdcg/solver/discretization.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "pdcg/core/error.hpp"
+
+namespace pdcg::solver {
+
+InfluenceFunction gaussian_influence() {
+  return [](double r, double delta) { return std::exp(-4.0 * r * r / (delta * delta)); };
+}
+
+bool crosses(const Crack& c, const Vec3& a, const Vec3& b) {
+  // Proper intersection of segments a–b and c.from–c.to in the xy-plane.
+  auto orient = [](double ax, double ay, double bx, double by, double cx, double cy) {
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+  };
+  const double d1 = orient(c.from.x(), c.from.y(), c.to.x(), c.to.y(), a.x(), a.y());
+  const double d2 = orient(c.from.x(), c.from.y(), c.to.x(), c.to.y(), b.x(), b.y());
+  const double d3 = orient(a.x(), a.y(), b.x(), b.y(), c.from.x(), c.from.y());
+  const double d4 = orient(a.x(), a.y(), b.x(), b.y(), c.to.x(), c.to.y());
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+namespace {
+
+using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
+
+// First-order PDDO on one stencil; writes dim doubles per member into grad.
+// Returns the reciprocal condition number of the scaled moment matrix.
+double pddo_stencil(int dim, const std::vector<Vec3>& x, const std::vector<double>& vol, int center,
+                    const int* members, std::size_t n, double delta, const InfluenceFunction& w,
+                    double* grad) {
+  const int np = dim + 1;
+  SmallMat A = SmallMat::Zero(np, np);
+  SmallVec p(np);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 xi = (x[members[k]] - x[center]) / delta;
+    p(0) = 1.0;
+    for (int a = 0; a < dim; ++a) p(a + 1) = xi(a);
+    A.noalias() += (w(xi.norm() * delta, delta) * vol[members[k]]) * p * p.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<SmallMat> es(A, Eigen::EigenvaluesOnly);
+  const double rc = es.eigenvalues()(0) / es.eigenvalues()(np - 1);
+  if (!(rc > 0)) return rc;
+  const Eigen::LDLT<SmallMat> ldlt(A);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 xi = (x[members[k]] - x[center]) / delta;
+    p(0) = 1.0;
+    for (int a = 0; a < dim; ++a) p(a + 1) = xi(a);
+    const SmallVec c = ldlt.solve(p);
+    const double s = w(xi.norm() * delta, delta) * vol[members[k]] / delta;
+    for (int a = 0; a < dim; ++a) grad[k * dim + a] = s * c(a + 1);
+  }
+  return rc;
+}
+
+}  // namespace
+
+Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOptions& opt) {
+  if (spec.dimension != 2 && spec.dimension != 3)
+    throw InputError("unsupported dimension")
+        .key("dimension")
+        .value(std::to_string(spec.dimension))
+        .expected("2 or 3");
+  if (!(spec.spacing > 0))
+    throw InputError("grid spacing must be positive")
+        .key("geometry.spacing")
+        .value(fmt::format("{}", spec.spacing))
+        .expected("a positive length");
+  const int d = spec.dimension;
+  std::array<long, 3> n{1, 1, 1};
+  for (int a = 0; a < d; ++a) {
+    if (!(spec.size(a) > 0))
+      throw InputError("body size must be positive")
+          .key("geometry.size")
+          .value(fmt::format("{}", spec.size(a)))
+          .expected("positive lengths");
+    n[a] = std::lround(spec.size(a) / spec.spacing);
+    if (n[a] < 1 || std::abs(n[a] * spec.spacing - spec.size(a)) > 1e-6 * spec.size(a))
+      throw InputError("body size is not a whole number of spacings")
+          .key("geometry.size")
+          .value(fmt::format("{} / {}", spec.size(a), spec.spacing))
+          .expected("size = n · spacing for an integer n")
+          .fix("choose a spacing that divides the size");
+  }
+  const double dx = spec.spacing;
+  auto inside = [&](const Vec3& p) {
+    for (int a = 0; a < d; ++a)
+      if (p(a) < spec.origin(a) || p(a) > spec.origin(a) + spec.size(a)) return false;
+    for (const auto& h : spec.holes) {
+      Vec3 r = p - h.center;
+      if (d == 2) r.z() = 0;
+      if (r.norm() < h.radius) return false;
+    }
+    return true;
+  };
+  std::vector<Vec3> x;
+  for (long k = 0; k < n[2]; ++k)
+    for (long j = 0; j < n[1]; ++j)
+      for (long i = 0; i < n[0]; ++i) {
+        Vec3 p = spec.origin + dx * Vec3(i + 0.5, j + 0.5, d == 3 ? k + 0.5 : 0.0);
+        if (d == 2) p.z() = 0.0;
+        if (inside(p)) x.push_back(p);
+      }
+  if (x.empty())
+    throw InputError("the geometry holds no grid point")
+        .key("geometry")
+        .fix("check size, spacing and holes");
+  const double V = std::pow(dx, d), A = std::pow(dx, d - 1);
+  std::vector<double> vol(x.size(), V);
+  std::vector<Vec3> surf(x.size(), Vec3::Zero());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (int a = 0; a < d; ++a)
+      for (int sgn : {-1, 1}) {
+        Vec3 e = Vec3::Zero();
+        e(a) = sgn;
+        const Vec3 q = x[i] + dx * e;
+        bool face = !inside(q);
+        for (const auto& c : spec.cracks) face = face || crosses(c, x[i], q);
+        if (face) surf[i] += A * e;
+      }
+  return from_points(d, std::move(x), std::move(vol), std::move(surf), dx, spec.cracks, opt);
+}
+
+Discretization Discretization::from_points(int dimension, std::vector<Vec3> x,
+                                           std::vector<double> volume, std::vector<Vec3> surface,
+                                           double spacing, std::vector<Crack> cracks,
+                                           const DiscretizationOptions& opt) {
+  Discretization D;
+  D.dim_ = dimension;
+  D.dx_ = spacing;
+  D.delta_ = opt.horizon > 0 ? opt.horizon : opt.horizon_factor * spacing;
+  if (!(D.delta_ >= spacing))
+    throw InputError("horizon smaller than the grid spacing")
+        .key("horizon")
+        .value(fmt::format("{}", D.delta_))
+        .expected(
+            fmt::format("a horizon of at least the spacing {} (typically 3.015 spacings)", spacing))
+        .fix("use horizon: {factor: 3.015}");
+  D.x_ = std::move(x);
+  D.vol_ = std::move(volume);
+  D.surface_ = std::move(surface);
+  D.cracks_ = std::move(cracks);
+  D.build(opt);
+  return D;
+}
+
+void Discretization::build(const DiscretizationOptions& opt) {
+  const std::size_t N = x_.size();
+  const int d = dim_;
+  // ---- families by a cell list (cell size δ) ----
+  Vec3 lo = x_[0], hi = x_[0];
+  for (const auto& p : x_) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  std::array<long, 3> nc{1, 1, 1};
+  for (int a = 0; a < d; ++a)
+    nc[a] = std::max<long>(1, static_cast<long>((hi(a) - lo(a)) / delta_) + 1);
+  auto cell_of = [&](const Vec3& p, int a) {
+    return std::clamp<long>(static_cast<long>((p(a) - lo(a)) / delta_), 0, nc[a] - 1);
+  };
+  std::vector<std::int64_t> cell_start(nc[0] * nc[1] * nc[2] + 1, 0);
+  std::vector<int> cell_points(N);
+  std::vector<long> cid(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    cid[i] = cell_of(x_[i], 0) + nc[0] * (cell_of(x_[i], 1) + nc[1] * cell_of(x_[i], 2));
+    ++cell_start[cid[i] + 1];
+  }
+  std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
+  {
+    std::vector<std::int64_t> fill(cell_start.begin(), cell_start.end() - 1);
+    for (std::size_t i = 0; i < N; ++i) cell_points[fill[cid[i]]++] = static_cast<int>(i);
+  }
+  // Points at exactly δ (e.g. m = 3) belong to the family: relative slack 1e-9.
+  const double r2max = delta_ * delta_ * (1.0 + 1e-9);
+  std::vector<std::vector<int>> fam(N);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < N; ++i) {
+    const long cx = cell_of(x_[i], 0), cy = cell_of(x_[i], 1), cz = cell_of(x_[i], 2);
+    for (long kz = std::max(0L, cz - 1); kz <= std::min(nc[2] - 1, cz + 1); ++kz)
+      for (long ky = std::max(0L, cy - 1); ky <= std::min(nc[1] - 1, cy + 1); ++ky)
+        for (long kx = std::max(0L, cx - 1); kx <= std::min(nc[0] - 1, cx + 1); ++kx) {
+          const long c = kx + nc[0] * (ky + nc[1] * kz);
+          for (auto q = cell_start[c]; q < cell_start[c + 1]; ++q) {
+            const int j = cell_points[q];
+            if (j == static_cast<int>(i) || (x_[j] - x_[i]).squaredNorm() > r2max) continue;
+            bool cut = false;
+            for (const auto& cr : cracks_) cut = cut || crosses(cr, x_[i], x_[j]);
+            if (!cut) fam[i].push_back(j);
+          }
+        }
+    std::sort(fam[i].begin(), fam[i].end());
+  }
+  families_.offsets.assign(N + 1, 0);
+  for (std::size_t i = 0; i < N; ++i)
+    families_.offsets[i + 1] = families_.offsets[i] + fam[i].size();
+  families_.index.resize(families_.offsets[N]);
+  for (std::size_t i = 0; i < N; ++i)
+    std::copy(fam[i].begin(), fam[i].end(), families_.index.begin() + families_.offsets[i]);
+  fam.clear();
+  fam.shrink_to_fit();
+  const std::size_t nb = families_.index.size();
+
+  std::atomic<long> bad{-1};
+  double bad_rc = 0;
+  auto report_bad = [&](long i, double rc) {
+    long expected = -1;
+    if (bad.compare_exchange_strong(expected, i)) bad_rc = rc;
+  };
+  // ---- point stencils {i} ∪ H_i ----
+  point_.offsets.assign(N + 1, 0);
+  for (std::size_t i = 0; i < N; ++i)
+    point_.offsets[i + 1] = point_.offsets[i] + 1 + (families_.end(i) - families_.begin(i));
+  point_.index.resize(point_.offsets[N]);
+  point_.grad.resize(point_.offsets[N] * d);
+  point_.center.resize(N);
+  point_.weight.resize(N);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < N; ++i) {
+    int* m = point_.index.data() + point_.offsets[i];
+    std::size_t k = 0;
+    bool placed = false;
+    for (auto q = families_.begin(i); q < families_.end(i); ++q) {
+      const int j = families_.index[q];
+      if (!placed && j > static_cast<int>(i)) {
+        m[k++] = static_cast<int>(i);
+        placed = true;
+      }
+      m[k++] = j;
+    }
+    if (!placed) m[k++] = static_cast<int>(i);
+    point_.center[i] = static_cast<int>(i);
+    point_.weight[i] = vol_[i];
+    const double rc = pddo_stencil(d, x_, vol_, static_cast<int>(i), m, k, delta_, opt.influence,
+                                   point_.grad.data() + point_.offsets[i] * d);
+    if (!(rc >= opt.min_reciprocal_condition)) report_bad(static_cast<long>(i), rc);
+  }
+  if (bad >= 0)
+    throw NumericalError(fmt::format(
+        "the family of the point at ({:.6g}, {:.6g}, {:.6g}) is too small for a well-posed "
+        "first-order PDDO (reciprocal condition {:.3g} of its moment matrix, {} neighbours); "
+        "enlarge the horizon or remove isolated points",
+        x_[bad](0), x_[bad](1), x_[bad](2), bad_rc, families_.end(bad) - families_.begin(bad)));
+
+  // ---- BA stencils B_ij = {i, j} ∪ (H_i ∩ H_j) and weights φ̂_ij ----
+  std::vector<std::int64_t> bsize(nb);
+  std::vector<double> phi(nb);
+  std::vector<double> famvol(N);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < N; ++i) {
+    double s = vol_[i];
+    for (auto q = families_.begin(i); q < families_.end(i); ++q) s += vol_[families_.index[q]];
+    famvol[i] = s;
+  }
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < N; ++i) {
+    const int* hi_b = families_.index.data() + families_.begin(i);
+    const int* hi_e = families_.index.data() + families_.end(i);
+    double norm = 0.0;
+    for (auto q = families_.begin(i); q < families_.end(i); ++q) {
+      const int j = families_.index[q];
+      const int* hj_b = families_.index.data() + families_.begin(j);
+      const int* hj_e = families_.index.data() + families_.end(j);
+      std::int64_t cnt = 2;
+      double v = vol_[i] + vol_[j];
+      const int *a = hi_b, *b = hj_b;
+      while (a != hi_e && b != hj_e) {
+        if (*a < *b)
+          ++a;
+        else if (*b < *a)
+          ++b;
+        else {
+          ++cnt;
+          v += vol_[*a];
+          ++a;
+          ++b;
+        }
+      }
+      bsize[q] = cnt;
+      phi[q] = v / famvol[i];
+      norm += phi[q] * vol_[j];
+    }
+    for (auto q = families_.begin(i); q < families_.end(i); ++q) phi[q] /= norm;
+  }
+  phi_hat_ = phi;
+  bond_.offsets.assign(nb + 1, 0);
+  for (std::size_t q = 0; q < nb; ++q) bond_.offsets[q + 1] = bond_.offsets[q] + bsize[q];
+  bond_.index.resize(bond_.offsets[nb]);
+  bond_.grad.resize(bond_.offsets[nb] * d);
+  bond_.center.resize(nb);
+  bond_.weight.resize(nb);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < N; ++i) {
+    const int* hi_b = families_.index.data() + families_.begin(i);
+    const int* hi_e = families_.index.data() + families_.end(i);
+    for (auto q = families_.begin(i); q < families_.end(i); ++q) {
+      const int j = families_.index[q];
+      int* m = bond_.index.data() + bond_.offsets[q];
+      std::size_t k = 0;
+      const int *a = hi_b, *b = families_.index.data() + families_.begin(j),
+                *b_e = families_.index.data() + families_.end(j);
+      while (a != hi_e && b != b_e) {
+        if (*a < *b)
+          ++a;
+        else if (*b < *a)
+          ++b;
+        else {
+          m[k++] = *a;
+          ++a;
+          ++b;
+        }
+      }
+      m[k++] = static_cast<int>(i);
+      m[k++] = j;
+      std::sort(m, m + k);
+      bond_.center[q] = static_cast<int>(i);
+      bond_.weight[q] = vol_[i] * phi_hat_[q] * vol_[j];
+      const double rc = pddo_stencil(d, x_, vol_, static_cast<int>(i), m, k, delta_, opt.influence,
+                                     bond_.grad.data() + bond_.offsets[q] * d);
+      if (!(rc >= opt.min_reciprocal_condition)) report_bad(static_cast<long>(i), rc);
+    }
+  }
+  if (bad >= 0)
+    throw NumericalError(fmt::format(
+        "a bond-associated family B_ij of the point at ({:.6g}, {:.6g}, {:.6g}) is too small for a "
+        "well-posed first-order PDDO (reciprocal condition {:.3g}); enlarge the horizon "
+        "(horizon: {{factor: 3.015}} or more) or refine the grid near that point",
+        x_[bad](0), x_[bad](1), x_[bad](2), bad_rc));
+}
+
+}  // namespace pdcg::solver

@@ -1,0 +1,137 @@
+#include "pdcg/solver/material.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+
+namespace pdcg::solver {
+
+bool neo_hookean_3d(const NeoHookeanParameters& p, const Mat3& F, double* psi, Mat3* P,
+                    Tangent* A) {
+  const double J = F.determinant();
+  if (!(J > 0.0) || !std::isfinite(J)) return false;
+  const double mu = p.shear_modulus, K = p.bulk_modulus;
+  const double I1 = F.squaredNorm();  // tr C
+  const double Jm23 = std::pow(J, -2.0 / 3.0);
+  if (psi) {
+    const double v = J - 1.0 / J;
+    *psi = 0.5 * mu * (Jm23 * I1 - 3.0) + 0.125 * K * v * v;
+  }
+  if (!P && !A) return true;
+  const Mat3 H = F.inverse().transpose();  // F⁻ᵀ
+  const double J2 = J * J, Jm2 = 1.0 / J2;
+  if (P) *P = mu * Jm23 * (F - (I1 / 3.0) * H) + 0.25 * K * (J2 - Jm2) * H;
+  if (A) {
+    const double c1 = mu * Jm23;
+    const double cv1 = 0.5 * K * (J2 + Jm2), cv2 = 0.25 * K * (J2 - Jm2);
+    for (int a = 0; a < 3; ++a)
+      for (int Jc = 0; Jc < 3; ++Jc)
+        for (int b = 0; b < 3; ++b)
+          for (int L = 0; L < 3; ++L) {
+            const double iso = (a == b && Jc == L ? 1.0 : 0.0) -
+                               (2.0 / 3.0) * (F(b, L) * H(a, Jc) + H(b, L) * F(a, Jc)) +
+                               (2.0 / 9.0) * I1 * H(b, L) * H(a, Jc) +
+                               (I1 / 3.0) * H(a, L) * H(b, Jc);
+            (*A)(flat(a, Jc), flat(b, L)) =
+                c1 * iso + cv1 * H(a, Jc) * H(b, L) - cv2 * H(a, L) * H(b, Jc);
+          }
+  }
+  return true;
+}
+
+namespace {
+Mat3 embed(const Mat3& F, double f33) {
+  Mat3 G = Mat3::Zero();
+  G.topLeftCorner<2, 2>() = F.topLeftCorner<2, 2>();
+  G(2, 2) = f33;
+  return G;
+}
+void restrict_in_plane(Mat3* P, Tangent* A) {
+  if (P) {
+    P->row(2).setZero();
+    P->col(2).setZero();
+  }
+  if (A) {
+    for (int i = 0; i < 9; ++i)
+      if (i % 3 == 2 || i / 3 == 2) {
+        A->row(i).setZero();
+        A->col(i).setZero();
+      }
+  }
+}
+}  // namespace
+
+bool NeoHookeanPlaneStrain::evaluate(const Mat3& F, double* psi, Mat3* P, Tangent* A) const {
+  if (!neo_hookean_3d(p_, embed(F, 1.0), psi, P, A)) return false;
+  restrict_in_plane(P, A);
+  return true;
+}
+
+Mat3 NeoHookeanPlaneStrain::full_deformation_gradient(const Mat3& F) const { return embed(F, 1.0); }
+
+double NeoHookeanPlaneStress::thickness_stretch(const Mat3& F) const {
+  // P₃₃(λ) = μ J^(−2/3) (λ − I₁/(3λ)) + K/4 (J² − J⁻²)/λ with J = J₂ λ. It is
+  // increasing in λ (A₃₃₃₃ > 0 for this energy), negative as λ → 0⁺ and positive
+  // as λ → ∞: Newton from λ = J₂^(−1/2) (incompressible guess), safeguarded by a
+  // bracket that bisection falls back on.
+  const double J2d = F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
+  if (!(J2d > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  double lo = 0.0, hi = std::numeric_limits<double>::infinity();
+  double lam = 1.0 / std::sqrt(J2d);
+  Mat3 P;
+  Tangent A;
+  for (int it = 0; it < 100; ++it) {
+    if (!neo_hookean_3d(p_, embed(F, lam), nullptr, &P, &A))
+      return std::numeric_limits<double>::quiet_NaN();
+    const double r = P(2, 2), d = A(8, 8);
+    if (r > 0)
+      hi = std::min(hi, lam);
+    else
+      lo = std::max(lo, lam);
+    if (std::abs(r) <= 1e-14 * (p_.shear_modulus + p_.bulk_modulus)) return lam;
+    double next = lam - r / d;
+    if (!(d > 0) || !(next > lo) || !(next < hi))
+      next = std::isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * lam;
+    if (std::abs(next - lam) <= 1e-15 * lam) return next;
+    lam = next;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+bool NeoHookeanPlaneStress::evaluate(const Mat3& F, double* psi, Mat3* P, Tangent* A) const {
+  const double lam = thickness_stretch(F);
+  if (!std::isfinite(lam)) return false;
+  Tangent A3;
+  Mat3 P3;
+  if (!neo_hookean_3d(p_, embed(F, lam), psi, &P3, &A3)) return false;
+  if (P) {
+    *P = P3;
+    restrict_in_plane(P, nullptr);
+  }
+  if (A) {
+    // Condensation of the thickness stretch: dλ/dF_bL = −A_33bL / A_3333.
+    const double a33 = A3(8, 8);
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 9; ++j) (*A)(i, j) = A3(i, j) - A3(i, 8) * A3(8, j) / a33;
+    restrict_in_plane(nullptr, A);
+  }
+  return true;
+}
+
+Mat3 NeoHookeanPlaneStress::full_deformation_gradient(const Mat3& F) const {
+  return embed(F, thickness_stretch(F));
+}
+
+std::unique_ptr<Material> make_neo_hookean(NeoHookeanParameters p, Kinematics k) {
+  switch (k) {
+    case Kinematics::three_d:
+      return std::make_unique<NeoHookean3D>(p);
+    case Kinematics::plane_strain:
+      return std::make_unique<NeoHookeanPlaneStrain>(p);
+    case Kinematics::plane_stress:
+      return std::make_unique<NeoHookeanPlaneStress>(p);
+  }
+  return nullptr;
+}
+
+}  // namespace pdcg::solver

@@ -1,0 +1,293 @@
+#include "pdcg/solver/model.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include "pdcg/core/error.hpp"
+
+namespace pdcg::solver {
+
+Model::Model(const Discretization& body, const Material& material, ModelOptions options)
+    : body_(&body), material_(material.clone()), opt_(options), d_(body.dimension()) {
+  if (material_->dimension() != d_)
+    throw Error("internal error: material dimension does not match the body");
+  energy_ = opt_.correspondence == Correspondence::bond_associated ? &body.bond_stencils()
+                                                                   : &body.point_stencils();
+  const Stencils& S = *energy_;
+  const std::size_t N = body.size();
+  // Reverse index point -> (stencil, position).
+  member_of_.offsets.assign(N + 1, 0);
+  for (int m : S.index) ++member_of_.offsets[m + 1];
+  for (std::size_t k = 0; k < N; ++k) member_of_.offsets[k + 1] += member_of_.offsets[k];
+  member_of_.index.resize(S.index.size());
+  member_pos_.resize(S.index.size());
+  {
+    std::vector<std::int64_t> fill(member_of_.offsets.begin(), member_of_.offsets.end() - 1);
+    for (std::size_t s = 0; s < S.size(); ++s)
+      for (auto q = S.offsets[s]; q < S.offsets[s + 1]; ++q) {
+        const auto slot = fill[S.index[q]]++;
+        member_of_.index[slot] = static_cast<int>(s);
+        member_pos_[slot] = static_cast<int>(q - S.offsets[s]);
+      }
+  }
+  // Smeared normals b_k and the weak-form defect e_k = b_k − s_k.
+  smeared_.assign(N, Vec3::Zero());
+  defect_.assign(N, Vec3::Zero());
+  weak_row_.assign(N, 0);
+  const double area = std::pow(body.spacing(), d_ - 1);
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < N; ++k) {
+    Vec3 b = Vec3::Zero();
+    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+      const int s = member_of_.index[q];
+      const double* g = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d_;
+      for (int a = 0; a < d_; ++a) b(a) += S.weight[s] * g[a];
+    }
+    smeared_[k] = b;
+    if (opt_.boundary == BoundaryForm::weak) {
+      const Vec3 e = b - body.surface()[k];
+      // |e| below round-off of the sums (interior points): no correction row.
+      if (e.norm() > 1e-10 * area) {
+        defect_[k] = e;
+        weak_row_[k] = 1;
+      }
+    }
+  }
+  // Matrix pattern: pairs of points sharing an energy stencil, plus weak rows.
+  const Stencils& Pst = body.point_stencils();
+  std::vector<std::vector<int>> adj(N);
+#pragma omp parallel
+  {
+    // Per-thread marker: each neighbour is collected once, then the short list is sorted.
+    std::vector<std::size_t> mark(N, static_cast<std::size_t>(-1));
+#pragma omp for schedule(dynamic, 32)
+    for (std::size_t k = 0; k < N; ++k) {
+      auto& a = adj[k];
+      auto add = [&](int n) {
+        if (mark[n] != k) {
+          mark[n] = k;
+          a.push_back(n);
+        }
+      };
+      for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+        const int s = member_of_.index[q];
+        for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) add(S.index[r]);
+      }
+      if (weak_row_[k])
+        for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) add(Pst.index[r]);
+      std::sort(a.begin(), a.end());
+    }
+  }
+  adjacency_.offsets.assign(N + 1, 0);
+  for (std::size_t k = 0; k < N; ++k)
+    adjacency_.offsets[k + 1] = adjacency_.offsets[k] + adj[k].size();
+  adjacency_.index.reserve(adjacency_.offsets[N]);
+  for (auto& a : adj) adjacency_.index.insert(adjacency_.index.end(), a.begin(), a.end());
+  adj.clear();
+  const int n = static_cast<int>(dofs());
+  // Fill the compressed row storage directly (row d·k+a: columns d·n+b, n ∈ adjacency(k)).
+  pattern_.resize(n, n);
+  pattern_.makeCompressed();
+  const std::int64_t nnz = static_cast<std::int64_t>(d_) * d_ * adjacency_.offsets[N];
+  pattern_.resizeNonZeros(nnz);
+  int* outer = pattern_.outerIndexPtr();
+  int* inner = pattern_.innerIndexPtr();
+  std::int64_t pos = 0;
+  for (std::size_t k = 0; k < N; ++k)
+    for (int a = 0; a < d_; ++a) {
+      outer[d_ * k + a] = static_cast<int>(pos);
+      for (auto q = adjacency_.begin(k); q < adjacency_.end(k); ++q)
+        for (int b = 0; b < d_; ++b) inner[pos++] = d_ * adjacency_.index[q] + b;
+    }
+  outer[n] = static_cast<int>(pos);
+  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + nnz, 0.0);
+}
+
+Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u) const {
+  Mat3 F = Mat3::Identity();
+  for (auto q = S.offsets[s]; q < S.offsets[s + 1]; ++q) {
+    const int m = S.index[q];
+    const double* g = S.grad.data() + q * d_;
+    for (int a = 0; a < d_; ++a)
+      for (int J = 0; J < d_; ++J) F(a, J) += u[d_ * m + a] * g[J];
+  }
+  return F;
+}
+
+bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
+  const Stencils& S = *energy_;
+  const std::size_t ns = S.size(), N = body_->size();
+  Ps_.resize(ns);
+  if (tangent) As_.resize(ns);
+  std::atomic<bool> ok{true};
+#pragma omp parallel for schedule(static)
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Mat3 F = stencil_gradient(S, s, u);
+    if (!material_->evaluate(F, nullptr, &Ps_[s], tangent ? &As_[s] : nullptr)) ok = false;
+  }
+  if (opt_.boundary == BoundaryForm::weak) {
+    Pbar_.resize(N);
+    if (tangent) Abar_.resize(N);
+    const Stencils& Pst = body_->point_stencils();
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < N; ++k) {
+      if (!weak_row_[k]) continue;
+      const Mat3 F = stencil_gradient(Pst, k, u);
+      if (!material_->evaluate(F, nullptr, &Pbar_[k], tangent ? &Abar_[k] : nullptr)) ok = false;
+    }
+  }
+  return ok;
+}
+
+double Model::energy(const Eigen::VectorXd& u) const {
+  const Stencils& S = *energy_;
+  double e = 0.0;
+  bool ok = true;
+#pragma omp parallel for schedule(static) reduction(+ : e) reduction(&& : ok)
+  for (std::size_t s = 0; s < S.size(); ++s) {
+    double psi = 0;
+    if (!material_->evaluate(stencil_gradient(S, s, u), &psi, nullptr, nullptr)) ok = false;
+    e += S.weight[s] * psi;
+  }
+  return ok ? e : std::numeric_limits<double>::quiet_NaN();
+}
+
+bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  if (!evaluate_stencils(u, false)) return false;
+  const Stencils& S = *energy_;
+  const std::size_t N = body_->size();
+  f.setZero(dofs());
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < N; ++k) {
+    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+      const int s = member_of_.index[q];
+      const double* g = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d_;
+      const Mat3& P = Ps_[s];
+      for (int a = 0; a < d_; ++a) {
+        double v = 0;
+        for (int J = 0; J < d_; ++J) v += P(a, J) * g[J];
+        f[d_ * k + a] += S.weight[s] * v;
+      }
+    }
+    if (weak_row_[k])
+      for (int a = 0; a < d_; ++a)
+        for (int J = 0; J < d_; ++J) f[d_ * k + a] -= Pbar_[k](a, J) * defect_[k](J);
+  }
+  return true;
+}
+
+bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
+                                       SparseRow& K) const {
+  if (!evaluate_stencils(u, true)) return false;
+  const Stencils& S = *energy_;
+  const Stencils& Pst = body_->point_stencils();
+  const std::size_t N = body_->size();
+  const int d = d_;
+  if (K.rows() != pattern_.rows() || K.nonZeros() != pattern_.nonZeros()) K = pattern_;
+  f.setZero(dofs());
+  double* vals = K.valuePtr();
+  const int* outer = K.outerIndexPtr();
+  // Per thread: slot[n] = position of point n in the current row's adjacency
+  // (O(1) column lookup; allocated once per assembly, outside the point loop).
+#pragma omp parallel
+  {
+    std::vector<int> slot(N, -1);
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t k = 0; k < N; ++k) {
+      const int* adj_b = adjacency_.index.data() + adjacency_.begin(k);
+      const int* adj_e = adjacency_.index.data() + adjacency_.end(k);
+      for (const int* p = adj_b; p != adj_e; ++p) slot[*p] = static_cast<int>(p - adj_b);
+      const std::int64_t row_len = d * (adj_e - adj_b);
+      double* rows[3];
+      for (int a = 0; a < d; ++a) {
+        rows[a] = vals + outer[d * k + a];
+        std::fill(rows[a], rows[a] + row_len, 0.0);
+      }
+      double B[3][9];  // B[a][b*3+L] = w Σ_J A_aJbL G^k_J
+      for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+        const int s = member_of_.index[q];
+        const double w = S.weight[s];
+        const double* gk = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d;
+        const Mat3& P = Ps_[s];
+        const Tangent& A = As_[s];
+        for (int a = 0; a < d; ++a) {
+          double v = 0;
+          for (int J = 0; J < d; ++J) v += P(a, J) * gk[J];
+          f[d * k + a] += w * v;
+          for (int b = 0; b < d; ++b)
+            for (int L = 0; L < d; ++L) {
+              double t = 0;
+              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * gk[J];
+              B[a][3 * b + L] = w * t;
+            }
+        }
+        for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+          const int n = S.index[r];
+          const double* gn = S.grad.data() + r * d;
+          const std::int64_t c0 = static_cast<std::int64_t>(d) * slot[n];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b) {
+              double t = 0;
+              for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
+              rows[a][c0 + b] += t;
+            }
+        }
+      }
+      if (weak_row_[k]) {
+        const Vec3& e = defect_[k];
+        const Tangent& A = Abar_[k];
+        for (int a = 0; a < d; ++a) {
+          for (int J = 0; J < d; ++J) f[d * k + a] -= Pbar_[k](a, J) * e(J);
+          for (int b = 0; b < d; ++b)
+            for (int L = 0; L < d; ++L) {
+              double t = 0;
+              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
+              B[a][3 * b + L] = t;
+            }
+        }
+        for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
+          const int n = Pst.index[r];
+          const double* gn = Pst.grad.data() + r * d;
+          const std::int64_t c0 = static_cast<std::int64_t>(d) * slot[n];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b) {
+              double t = 0;
+              for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
+              rows[a][c0 + b] -= t;
+            }
+        }
+      }
+    }
+  }  // omp parallel
+  return true;
+}
+
+std::vector<Mat3> Model::point_deformation_gradients(const Eigen::VectorXd& u) const {
+  const Stencils& S = *energy_;
+  const std::size_t N = body_->size();
+  std::vector<Mat3> F(N, Mat3::Zero());
+  std::vector<double> wsum(N, 0.0);
+  // Stencils of one centre are contiguous (bond stencils in CSR order of families).
+  for (std::size_t s = 0; s < S.size(); ++s) {
+    const int c = S.center[s];
+    F[c] += S.weight[s] * stencil_gradient(S, s, u);
+    wsum[c] += S.weight[s];
+  }
+  for (std::size_t k = 0; k < N; ++k) {
+    F[k] /= wsum[k];
+    if (d_ == 2) F[k](2, 2) = 1.0;
+  }
+  return F;
+}
+
+std::vector<Mat3> Model::point_family_gradients(const Eigen::VectorXd& u) const {
+  const std::size_t N = body_->size();
+  std::vector<Mat3> F(N);
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < N; ++k) F[k] = stencil_gradient(body_->point_stencils(), k, u);
+  return F;
+}
+
+}  // namespace pdcg::solver

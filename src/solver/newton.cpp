@@ -1,0 +1,329 @@
+#include "pdcg/solver/newton.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseLU>
+#include <Eigen/UmfPackSupport>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
+
+namespace pdcg::solver {
+
+using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+LinearSolver parse_linear_solver(const std::string& name) {
+  if (name == "cholmod") return LinearSolver::cholmod;
+  if (name == "umfpack") return LinearSolver::umfpack;
+  if (name == "lu" || name == "sparse_lu") return LinearSolver::sparse_lu;
+  if (name == "bicgstab" || name == "iterative") return LinearSolver::bicgstab;
+  throw InputError("unknown linear solver")
+      .key("solver.linear")
+      .value(name)
+      .expected("one of cholmod, umfpack, lu, bicgstab");
+}
+
+struct StaticSolver::Solvers {
+  Eigen::CholmodSupernodalLLT<SparseCol> cholmod;
+  Eigen::UmfPackLU<SparseCol> umfpack;
+  Eigen::SparseLU<SparseCol> lu;
+  Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double>> bicg;
+  bool analysed = false;
+};
+
+StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> displacement,
+                           std::vector<TractionSet> traction, NewtonOptions options)
+    : model_(&model), dsets_(std::move(displacement)), tsets_(std::move(traction)), opt_(options) {
+  const int d = model.dimension();
+  const std::size_t n = model.dofs();
+  if (opt_.linear == LinearSolver::cholmod && !model.symmetric()) {
+    log::info("weak-form tangent is unsymmetric: using UMFPACK instead of CHOLMOD");
+    opt_.linear = LinearSolver::umfpack;
+  }
+  prescribed_by_.assign(n, -1);
+  for (std::size_t s = 0; s < dsets_.size(); ++s)
+    for (int p : dsets_[s].points)
+      for (int a = 0; a < d; ++a)
+        if (dsets_[s].component[a]) prescribed_by_[d * p + a] = static_cast<int>(s << 2) | a;
+  // Rigid motions must be removed (static run).
+  const char* axis = "xyz";
+  std::set<int> constrained_points;
+  for (int a = 0; a < d; ++a) {
+    bool any = false;
+    for (std::size_t k = 0; k < model.body().size(); ++k)
+      if (prescribed_by_[d * k + a] >= 0) {
+        any = true;
+        constrained_points.insert(static_cast<int>(k));
+      }
+    if (!any)
+      throw InputError(fmt::format("no displacement constraint in {}: the static problem is "
+                                   "singular (the body can translate freely in {})",
+                                   axis[a], axis[a]))
+          .key("boundary")
+          .expected(fmt::format("at least one displacement set fixing {}", axis[a]))
+          .fix(fmt::format(
+              "add e.g. {{name: pin, region: {{point: [...]}}, displacement: {{{}: 0.0}}}}",
+              axis[a]));
+  }
+  if (constrained_points.size() < 2)
+    throw InputError("all displacement constraints act on one point: the body can rotate freely")
+        .key("boundary")
+        .fix("constrain a second point or an edge");
+  free_index_.assign(n, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (prescribed_by_[i] < 0) {
+      free_index_[i] = static_cast<int>(free_dofs_.size());
+      free_dofs_.push_back(static_cast<int>(i));
+    }
+  // Traction face areas.
+  const auto& surf = model.body().surface();
+  for (const auto& ts : tsets_) {
+    Vec3 nsum = Vec3::Zero();
+    for (int p : ts.points) nsum += surf[p];
+    const Vec3 nh = nsum.norm() > 0 ? Vec3(nsum.normalized()) : Vec3::Zero();
+    std::vector<double> area;
+    for (int p : ts.points) area.push_back(std::max(0.0, surf[p].dot(nh)));
+    traction_area_.push_back(std::move(area));
+  }
+  u_.setZero(n);
+  f_.setZero(n);
+  // Reduced pattern and gather map from the full pattern.
+  Eigen::VectorXd f;
+  if (!model.internal_force_and_tangent(u_, f, K_))
+    throw NumericalError("the reference configuration is inadmissible for the material");
+  std::vector<Eigen::Triplet<double, int>> trip;
+  for (int r = 0; r < K_.outerSize(); ++r) {
+    if (free_index_[r] < 0) continue;
+    for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q) {
+      const int c = K_.innerIndexPtr()[q];
+      if (free_index_[c] >= 0) trip.emplace_back(free_index_[r], free_index_[c], 0.0);
+    }
+  }
+  const int nf = static_cast<int>(free_dofs_.size());
+  Kff_.resize(nf, nf);
+  Kff_.setFromTriplets(trip.begin(), trip.end());
+  Kff_.makeCompressed();
+  red_map_.reserve(Kff_.nonZeros());
+  for (int r = 0; r < K_.outerSize(); ++r) {
+    if (free_index_[r] < 0) continue;
+    for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q)
+      if (free_index_[K_.innerIndexPtr()[q]] >= 0) red_map_.push_back(q);
+  }
+  solvers_ = std::make_shared<Solvers>();
+}
+
+void StaticSolver::external_force(double t, Eigen::VectorXd& fext) const {
+  const int d = model_->dimension();
+  fext.setZero(model_->dofs());
+  for (std::size_t s = 0; s < tsets_.size(); ++s) {
+    const Vec3 tr = tsets_[s].traction(t);
+    for (std::size_t i = 0; i < tsets_[s].points.size(); ++i)
+      for (int a = 0; a < d; ++a) fext[d * tsets_[s].points[i] + a] += tr(a) * traction_area_[s][i];
+  }
+}
+
+Vec3 StaticSolver::reaction(std::size_t set) const {
+  const int d = model_->dimension();
+  Eigen::VectorXd fext;
+  external_force(t_, fext);
+  Vec3 r = Vec3::Zero();
+  for (int p : dsets_.at(set).points)
+    for (int a = 0; a < d; ++a) r(a) += f_[d * p + a] - fext[d * p + a];
+  return r;
+}
+
+bool StaticSolver::newton(double t_target, StepReport& rep) {
+  const std::size_t n = model_->dofs();
+  const int nf = static_cast<int>(free_dofs_.size());
+  Eigen::VectorXd fext, f, du_c = Eigen::VectorXd::Zero(n);
+  external_force(t_target, fext);
+  for (std::size_t i = 0; i < n; ++i)
+    if (prescribed_by_[i] >= 0) {
+      const auto& set = dsets_[prescribed_by_[i] >> 2];
+      du_c[i] = set.component[prescribed_by_[i] & 3](t_target) - u_[i];
+    }
+  Eigen::VectorXd u = u_;
+  Eigen::VectorXd Rf(nf), dx(nf), rhs(nf);
+  const double dx_scale = model_->body().spacing();
+  rep.residual_history.clear();
+  double last_inc = INFINITY;
+  for (int it = 0; it < opt_.max_iterations; ++it) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!model_->internal_force_and_tangent(u, f, K_)) return false;
+    const auto t1 = std::chrono::steady_clock::now();
+    for (int i = 0; i < nf; ++i) Rf[i] = f[free_dofs_[i]] - fext[free_dofs_[i]];
+    const double scale = std::max({f.norm(), fext.norm(), 1e-300});
+    const double rnorm = Rf.norm() / scale;
+    rep.residual_history.push_back(rnorm);
+    // Stagnation or divergence: Newton near a solution gains orders of magnitude
+    // within a few iterations; give the step back for a cutback early.
+    if (it >= 10 && !(rnorm < 0.5 * rep.residual_history[it - 8])) {
+      log::debug("Newton stagnates (residual {:.3e} after {} iterations)", rnorm, it);
+      return false;
+    }
+    // rhs = −R_f − K_fc Δu_c (Δu_c ≠ 0 only in the first iteration of a step).
+    rhs = -Rf;
+    if (du_c.squaredNorm() > 0) {
+      for (int r = 0; r < K_.outerSize(); ++r) {
+        const int fr = free_index_[r];
+        if (fr < 0) continue;
+        double s = 0;
+        for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q)
+          s += K_.valuePtr()[q] * du_c[K_.innerIndexPtr()[q]];
+        rhs[fr] -= s;
+      }
+    } else if (it > 0 && rnorm <= opt_.tolerance &&
+               last_inc <= opt_.tolerance * std::max(u.norm(), dx_scale)) {
+      // converged on the residual and on the last increment
+      rep.iterations = it;
+      rep.residual = rnorm;
+      u_ = u;
+      f_ = f;
+      return true;
+    }
+    // Linear solve.
+    for (std::size_t q = 0; q < red_map_.size(); ++q)
+      Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+    const SparseCol A = Kff_;
+    bool ok = true;
+    auto& S = *solvers_;
+    switch (opt_.linear) {
+      case LinearSolver::cholmod:
+        if (!S.analysed) S.cholmod.analyzePattern(A);
+        S.cholmod.factorize(A);
+        ok = S.cholmod.info() == Eigen::Success;
+        if (ok) dx = S.cholmod.solve(rhs);
+        break;
+      case LinearSolver::umfpack:
+        if (!S.analysed) S.umfpack.analyzePattern(A);
+        S.umfpack.factorize(A);
+        ok = S.umfpack.info() == Eigen::Success;
+        if (ok) dx = S.umfpack.solve(rhs);
+        break;
+      case LinearSolver::sparse_lu:
+        if (!S.analysed) S.lu.analyzePattern(A);
+        S.lu.factorize(A);
+        ok = S.lu.info() == Eigen::Success;
+        if (ok) dx = S.lu.solve(rhs);
+        break;
+      case LinearSolver::bicgstab:
+        S.bicg.setTolerance(std::min(1e-3 * opt_.tolerance, 1e-10));
+        S.bicg.setMaxIterations(5000);
+        S.bicg.compute(A);
+        dx = S.bicg.solve(rhs);
+        ok = S.bicg.info() == Eigen::Success;
+        break;
+    }
+    S.analysed = true;
+    const auto t2 = std::chrono::steady_clock::now();
+    rep.assembly_seconds += std::chrono::duration<double>(t1 - t0).count();
+    rep.solve_seconds += std::chrono::duration<double>(t2 - t1).count();
+    if (!ok || !dx.allFinite()) {
+      if (opt_.linear == LinearSolver::cholmod) {
+        log::warn("CHOLMOD failed (tangent not positive definite); falling back to UMFPACK");
+        opt_.linear = LinearSolver::umfpack;
+        S.analysed = false;
+        --it;
+        continue;
+      }
+      if (opt_.linear == LinearSolver::bicgstab) {
+        log::warn("BiCGSTAB did not converge; falling back to UMFPACK");
+        opt_.linear = LinearSolver::umfpack;
+        S.analysed = false;
+        --it;
+        continue;
+      }
+      return false;
+    }
+    // Line search on ‖R_f‖ (backtracking, Armijo 1e-4).
+    const Eigen::VectorXd u0 = u;
+    double alpha = 1.0;
+    Eigen::VectorXd ftrial;
+    for (int ls = 0; ls < (opt_.line_search ? 8 : 1); ++ls) {
+      u = u0 + du_c;
+      for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += alpha * dx[i];
+      if (!opt_.line_search) break;
+      if (model_->internal_force(u, ftrial)) {
+        double r2 = 0;
+        for (int i = 0; i < nf; ++i) {
+          const double v = ftrial[free_dofs_[i]] - fext[free_dofs_[i]];
+          r2 += v * v;
+        }
+        const double sc = std::max({ftrial.norm(), fext.norm(), 1e-300});
+        // Non-monotone acceptance (after Grippo, Lampariello & Lucidi 1986): the
+        // full Newton step is taken unless the residual grows more than tenfold
+        // over the recent maximum (far from the solution ‖R‖ may rise before the
+        // quadratic phase); shorter steps must meet Armijo against that maximum.
+        // The first iteration of a step changes the load: its full step is taken.
+        double recent = rnorm;
+        for (std::size_t h = rep.residual_history.size() > 4 ? rep.residual_history.size() - 4 : 1;
+             h < rep.residual_history.size(); ++h)
+          recent = std::max(recent, rep.residual_history[h]);
+        const double rt = std::sqrt(r2) / sc;
+        if (du_c.squaredNorm() > 0 || rt <= opt_.tolerance ||
+            (alpha == 1.0 ? rt <= 10.0 * recent : rt <= (1 - 1e-4 * alpha) * recent))
+          break;
+      }
+      alpha *= 0.5;
+      if (ls == 7) log::debug("line search did not reduce the residual; taking α = {}", alpha);
+    }
+    du_c.setZero();
+    const double inc = alpha * dx.norm();
+    log::debug("  iteration {}: residual {:.3e}, increment {:.3e}, alpha {}", it, rnorm, inc,
+               alpha);
+    last_inc = inc;
+  }
+  return false;
+}
+
+void StaticSolver::advance_to(double t_end, const std::function<void(const StepReport&)>& on_step) {
+  const double nominal = (t_end - t_) > 0 ? (t_end - t_) : 1.0;
+  double dt = nominal;
+  int cutbacks = 0;
+  while (t_ < t_end - 1e-14 * std::max(1.0, std::abs(t_end))) {
+    const double t_new = std::min(t_ + dt, t_end);
+    StepReport rep;
+    const Eigen::VectorXd u_save = u_, f_save = f_;
+    if (!newton(t_new, rep)) {
+      u_ = u_save;
+      f_ = f_save;
+      ++cutbacks;
+      if (cutbacks > opt_.max_cutbacks)
+        throw NumericalError(fmt::format(
+            "Newton failed at load factor {:.6g} after {} step cutbacks (last residual history: "
+            "{}); the load may exceed a limit point, or the deformation inverts an element "
+            "(J ≤ 0). Try more load steps, a larger horizon, or check the boundary conditions",
+            t_new, opt_.max_cutbacks, fmt::join(rep.residual_history, " ")));
+      dt *= 0.5;
+      log::warn(
+          "step to t = {:.6g} did not converge ({} iterations, residual {:.3e}): cutting back to "
+          "dt = {:.4g}",
+          t_new, rep.residual_history.size(),
+          rep.residual_history.empty() ? NAN : rep.residual_history.back(), dt);
+      continue;
+    }
+    t_ = t_new;
+    rep.t = t_;
+    rep.step = ++step_;
+    rep.cutbacks = cutbacks;
+    log::info(
+        "step {} t = {:.6g}: {} Newton iterations, residual {:.3e} (history {:.2e}); "
+        "assembly {:.2f} s, linear solve {:.2f} s",
+        rep.step, t_, rep.iterations, rep.residual, fmt::join(rep.residual_history, " "),
+        rep.assembly_seconds, rep.solve_seconds);
+    if (on_step) on_step(rep);
+    if (dt < nominal) dt = std::min(nominal, 2 * dt);  // recover after a successful step
+  }
+}
+
+void StaticSolver::run(const std::function<void(const StepReport&)>& on_step) {
+  const int steps = std::max(1, opt_.steps);
+  for (int s = 1; s <= steps; ++s) advance_to(static_cast<double>(s) / steps, on_step);
+}
+
+}  // namespace pdcg::solver
