@@ -303,11 +303,12 @@ void VelocityVerlet::evaluate_pairwise() {
       for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
     }
     // reduce the thread copies (each thread a slice of the dofs)
+    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
 #pragma omp barrier
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < 3 * n; ++i) {
       double s = 0.0;
-      for (int th = 0; th < nthreads; ++th) s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+      for (int th = 0; th < used; ++th) s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
       f_[static_cast<size_t>(i)] = s;
     }
   }
