@@ -10,7 +10,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 PDCG=${1:-$root/build/pdcg}
 write_docs=${2:-}
-STEPS=${STEPS:-50}
+STEPS=${STEPS:-30}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
