@@ -1,0 +1,413 @@
+#include "pdcg/dynamics/dynamics.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <omp.h>
+
+#include "pdcg/core/error.hpp"
+#include "pdcg/io/atomic_output.hpp"
+
+namespace pdcg::dynamics {
+
+using std::size_t;
+
+void check_masses(const body::Body& body, const std::string& source) {
+  if (body.size() == 0) throw InputError("the body has no points").source(source);
+  if (body.mass.size() != body.size())
+    throw InputError("the body has no masses")
+        .source(source)
+        .expected("one mass per point")
+        .fix("give masses (`mass` commands or a Masses section) when building the body with atoms2pd");
+  for (size_t k = 0; k < body.size(); ++k)
+    if (!(std::isfinite(body.mass[k]) && body.mass[k] > 0.0))
+      throw InputError("missing or non-positive mass")
+          .source(source)
+          .key(fmt::format("atom id {}", body.id[k]))
+          .value(fmt::format("{}", body.mass[k]))
+          .expected("a finite positive mass for every point")
+          .fix("set the masses of all types when building the body (`mass` commands or a Masses section)");
+}
+
+StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
+  check_masses(body, "body");
+  const auto& fam = body.families;
+  const size_t n = body.size();
+  std::vector<double> bonds(3 * fam.bonds());
+  atomistic::deformed_bonds(fam, y.empty() ? std::span<const double>(body.x) : y, fam.h, bonds);
+  std::int64_t max_family = 0;
+  for (size_t k = 0; k < n; ++k) max_family = std::max(max_family, fam.offset[k + 1] - fam.offset[k]);
+  const auto& pot = *body.potential;
+  // row[i]: Σ_k Σ_l |H⁽ᵏ⁾_il| for the 3N dofs. Families scatter into their neighbours' rows,
+  // so each thread accumulates its own copy (computed once per run: memory 3N per thread).
+  std::vector<double> row(3 * n, 0.0);
+#pragma omp parallel
+  {
+    const size_t nf = static_cast<size_t>(max_family);
+    std::vector<double> K(9 * nf * nf), work(atomistic::Potential::tangent_workspace(max_family));
+    std::vector<double> rowk(3 * (nf + 1)), sumj(9 * nf), summ(9 * nf), local(3 * n, 0.0);
+    std::vector<int> ntype(nf);
+#pragma omp for schedule(dynamic, 64)
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
+      const auto b0 = fam.offset[static_cast<size_t>(k)];
+      const auto m = fam.offset[static_cast<size_t>(k) + 1] - b0;
+      if (m == 0) continue;
+      const size_t nm = static_cast<size_t>(m);
+      for (size_t j = 0; j < nm; ++j) ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
+      atomistic::FamilyState st;
+      st.type = body.type[static_cast<size_t>(k)];
+      st.size = m;
+      st.neighbor_type = ntype.data();
+      st.bond = bonds.data() + 3 * b0;
+      st.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+      st.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      if (pot.pairwise()) {
+        // ψ_k = ½ Σ_j φ(r_kj): t_kj depends on Y_kj alone, A_jm = 0 for j ≠ m, and the
+        // diagonal block is the tangent of the one-bond family {j} (O(n) instead of O(n²)).
+        for (size_t j = 0; j < nm; ++j) {
+          atomistic::FamilyState one = st;
+          one.size = 1;
+          one.neighbor_type = ntype.data() + j;
+          one.bond = st.bond + 3 * j;
+          if (st.pair_factor) one.pair_factor = st.pair_factor + j;
+          if (st.bond_type) one.bond_type = st.bond_type + j;
+          pot.force_state_tangent(one, K.data() + (j * nm + j) * 9, work.data());
+        }
+      } else {
+        pot.force_state_tangent(st, K.data(), work.data());
+      }
+      // sumj[m] = Σ_j A_jm (column sums), summ[j] = Σ_m A_jm (row sums), 3×3 each.
+      std::fill(sumj.begin(), sumj.begin() + 9 * static_cast<std::ptrdiff_t>(nm), 0.0);
+      std::fill(summ.begin(), summ.begin() + 9 * static_cast<std::ptrdiff_t>(nm), 0.0);
+      std::fill(rowk.begin(), rowk.end(), 0.0);
+      double kk[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+      const bool diagonal = pot.pairwise();  // only blocks j = m were written
+      for (size_t j = 0; j < nm; ++j)
+        for (size_t mm = diagonal ? j : 0; mm < (diagonal ? j + 1 : nm); ++mm) {
+          const double* A = K.data() + (j * nm + mm) * 9;
+          for (int c = 0; c < 9; ++c) {
+            sumj[mm * 9 + static_cast<size_t>(c)] += A[c];
+            summ[j * 9 + static_cast<size_t>(c)] += A[c];
+            kk[c] += A[c];
+          }
+        }
+      // Rows of neighbour j: |A_jm| over m, |H_jk| = |Σ_m A_jm|.
+      for (size_t j = 0; j < nm; ++j) {
+        const size_t dof = 3 * static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j]);
+        for (int a = 0; a < 3; ++a) {
+          double s = 0.0;
+          for (size_t mm = diagonal ? j : 0; mm < (diagonal ? j + 1 : nm); ++mm) {
+            const double* A = K.data() + (j * nm + mm) * 9;
+            s += std::abs(A[3 * a]) + std::abs(A[3 * a + 1]) + std::abs(A[3 * a + 2]);
+          }
+          const double* S = summ.data() + j * 9;
+          s += std::abs(S[3 * a]) + std::abs(S[3 * a + 1]) + std::abs(S[3 * a + 2]);
+          local[dof + static_cast<size_t>(a)] += s;
+        }
+      }
+      // Row of k: |H_km| = |Σ_j A_jm|, |H_kk| = |Σ_jm A_jm|.
+      for (int a = 0; a < 3; ++a) {
+        double s = std::abs(kk[3 * a]) + std::abs(kk[3 * a + 1]) + std::abs(kk[3 * a + 2]);
+        for (size_t mm = 0; mm < nm; ++mm) {
+          const double* S = sumj.data() + mm * 9;
+          s += std::abs(S[3 * a]) + std::abs(S[3 * a + 1]) + std::abs(S[3 * a + 2]);
+        }
+        local[3 * static_cast<size_t>(k) + static_cast<size_t>(a)] += s;
+      }
+    }
+#pragma omp critical
+    for (size_t i = 0; i < 3 * n; ++i) row[i] += local[i];
+  }
+  const double c = unit_constants(body.units).ftm2v;
+  StableStep out;
+  double w2 = 0.0;
+  for (size_t i = 0; i < 3 * n; ++i) {
+    const double r = c * row[i] / body.mass[i / 3];
+    if (r > w2) {
+      w2 = r;
+      out.critical_id = body.id[i / 3];
+    }
+  }
+  out.omega_bound = std::sqrt(w2);
+  out.dt_stable = w2 > 0.0 ? 2.0 / out.omega_bound : std::numeric_limits<double>::infinity();
+  return out;
+}
+
+void require_stable_time_step(double dt, const StableStep& limit, bool force) {
+  if (force || dt <= limit.dt_stable) return;
+  throw InputError("time step above the stable limit")
+      .key("dt")
+      .value(fmt::format("{:.6g}", dt))
+      .expected(fmt::format("dt <= {:.6g} = 2/ω_bound (Gershgorin bound ω_bound = {:.6g} at atom id {}; "
+                            "the requested dt is {:.4g}× the limit)",
+                            limit.dt_stable, limit.omega_bound, limit.critical_id, dt / limit.dt_stable))
+      .fix("use a smaller time step, or --force-unstable to run anyway");
+}
+
+std::vector<double> thermal_velocities(const body::Body& body, double temperature, std::uint64_t seed) {
+  check_masses(body, "body");
+  if (!(temperature >= 0.0) || !std::isfinite(temperature))
+    throw InputError("bad temperature").key("temperature").value(fmt::format("{}", temperature)).expected("T >= 0");
+  const size_t n = body.size();
+  const int d = std::clamp(body.dimension, 1, 3);
+  std::vector<double> v(3 * n, 0.0);
+  if (temperature == 0.0 || n < 2) return v;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  double p[3] = {0, 0, 0}, mtot = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    const double s = 1.0 / std::sqrt(body.mass[k]);
+    for (int a = 0; a < d; ++a) {
+      v[3 * k + static_cast<size_t>(a)] = s * g(rng);
+      p[a] += body.mass[k] * v[3 * k + static_cast<size_t>(a)];
+    }
+    mtot += body.mass[k];
+  }
+  double ke2 = 0.0;  // Σ M v²
+  for (size_t k = 0; k < n; ++k)
+    for (int a = 0; a < d; ++a) {
+      double& vi = v[3 * k + static_cast<size_t>(a)];
+      vi -= p[a] / mtot;
+      ke2 += body.mass[k] * vi * vi;
+    }
+  const auto uc = unit_constants(body.units);
+  const double dof = static_cast<double>(d) * static_cast<double>(n - 1);
+  const double t_now = uc.mvv2e * ke2 / (dof * uc.boltz);
+  const double f = std::sqrt(temperature / t_now);
+  for (auto& vi : v) vi *= f;
+  return v;
+}
+
+std::vector<double> velocities_from_atoms(const body::Body& body, const atomistic::Atoms& atoms,
+                                          const std::string& source) {
+  if (atoms.v.size() != 3 * atoms.size())
+    throw InputError("no velocities in the file")
+        .source(source)
+        .expected("columns vx vy vz (LAMMPS dump custom … vx vy vz)")
+        .fix("dump velocities, or use --temperature or no velocity option (zero)");
+  if (atoms.size() != body.size())
+    throw InputError("the velocity file has a different number of atoms than the body")
+        .source(source)
+        .value(std::to_string(atoms.size()))
+        .expected(fmt::format("{} atoms with the body's ids", body.size()));
+  // both sorted by id
+  std::vector<size_t> order(atoms.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return atoms.id[a] < atoms.id[b]; });
+  std::vector<double> v(3 * body.size());
+  for (size_t k = 0; k < body.size(); ++k) {
+    const size_t i = order[k];
+    if (atoms.id[i] != body.id[k])
+      throw InputError("atom ids of the velocity file differ from the body's")
+          .source(source)
+          .key("id")
+          .value(std::to_string(atoms.id[i]))
+          .expected(fmt::format("id {}", body.id[k]));
+    for (int a = 0; a < 3; ++a) v[3 * k + static_cast<size_t>(a)] = atoms.v[3 * i + static_cast<size_t>(a)];
+  }
+  return v;
+}
+
+VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt)
+    : body_(body), ev_(body), y_(std::move(y0)), v_(std::move(v0)), dt_(dt) {
+  check_masses(body, "body");
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw InputError("bad time step").key("dt").value(fmt::format("{}", dt)).expected("a positive number");
+  const size_t n = body.size();
+  if (y_.empty()) y_ = body.x;
+  if (v_.empty()) v_.assign(3 * n, 0.0);
+  if (y_.size() != 3 * n || v_.size() != 3 * n)
+    throw InputError("positions/velocities do not match the body").expected(fmt::format("3×{} values", n));
+  const auto uc = unit_constants(body.units);
+  ftm2v_ = uc.ftm2v;
+  mvv2e_ = uc.mvv2e;
+  boltz_ = uc.boltz;
+  inv_mass_.resize(n);
+  for (size_t k = 0; k < n; ++k) inv_mass_[k] = 1.0 / body.mass[k];
+  f_.resize(3 * n);
+  half_ = body.potential->pairwise() && !body.statistics;
+  if (half_) setup_pairwise();
+  evaluate();
+}
+
+void VelocityVerlet::setup_pairwise() {
+  const auto& fam = body_.families;
+  const size_t n = body_.size();
+  half_offset_.assign(n + 1, 0);
+  std::int64_t widest = 0;
+  for (size_t k = 0; k < n; ++k) {
+    for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
+      const auto ub = static_cast<size_t>(b);
+      const auto j = static_cast<size_t>(fam.neighbor[ub]);
+      if (!(j > k || (j == k && fam.reverse[ub] > b))) continue;  // the other half holds it
+      half_neighbor_.push_back(fam.neighbor[ub]);
+      half_type_.push_back(body_.type[j]);
+      const Eigen::Vector3d s = fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
+      half_shift_.insert(half_shift_.end(), {s[0], s[1], s[2]});
+      if (!fam.pair_factor.empty()) half_factor_.push_back(fam.pair_factor[ub]);
+      if (!fam.bond_type.empty()) half_bond_type_.push_back(fam.bond_type[ub]);
+    }
+    half_offset_[k + 1] = static_cast<std::int64_t>(half_neighbor_.size());
+    widest = std::max(widest, half_offset_[k + 1] - half_offset_[k]);
+  }
+  const int threads = omp_get_max_threads();
+  thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * n));
+  thread_y_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  thread_t_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+}
+
+void VelocityVerlet::evaluate_pairwise() {
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const auto& pot = *body_.potential;
+  const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
+  double energy = 0.0;
+  const double* y = y_.data();
+#pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
+  {
+    const auto tid = static_cast<size_t>(omp_get_thread_num());
+    double* f = thread_f_[tid].data();
+    double* Y = thread_y_[tid].data();
+    double* t = thread_t_[tid].data();
+    std::fill(f, f + 3 * n, 0.0);
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      const auto b0 = half_offset_[static_cast<size_t>(k)];
+      const auto m = half_offset_[static_cast<size_t>(k) + 1] - b0;
+      if (m == 0) continue;
+      const double* yk = y + 3 * k;
+      for (std::int64_t q = 0; q < m; ++q) {
+        const auto b = static_cast<size_t>(b0 + q);
+        const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
+        for (int a = 0; a < 3; ++a) Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
+      }
+      atomistic::FamilyState st;
+      st.type = body_.type[static_cast<size_t>(k)];
+      st.size = m;
+      st.neighbor_type = half_type_.data() + b0;
+      st.bond = Y;
+      st.pair_factor = half_factor_.empty() ? nullptr : half_factor_.data() + b0;
+      st.bond_type = half_bond_type_.empty() ? nullptr : half_bond_type_.data() + b0;
+      energy += 2.0 * pot.force_state(st, t);
+      double fk[3] = {0.0, 0.0, 0.0};
+      for (std::int64_t q = 0; q < m; ++q) {
+        double* fj = f + 3 * static_cast<std::int64_t>(half_neighbor_[static_cast<size_t>(b0 + q)]);
+        for (int a = 0; a < 3; ++a) {
+          fk[a] += 2.0 * t[3 * q + a];
+          fj[a] -= 2.0 * t[3 * q + a];
+        }
+      }
+      for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
+    }
+    // reduce the thread copies (each thread a slice of the dofs)
+    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < 3 * n; ++i) {
+      double s = 0.0;
+      for (int th = 0; th < used; ++th) s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+      f_[static_cast<size_t>(i)] = s;
+    }
+  }
+  potential_ = energy;
+}
+
+void VelocityVerlet::evaluate() {
+  if (half_) {
+    evaluate_pairwise();
+    return;
+  }
+  const auto e = ev_.deformed(y_);
+  potential_ = e.energy;
+  std::copy(e.forces.begin(), e.forces.end(), f_.begin());
+}
+
+void VelocityVerlet::step() {
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const double dtf = 0.5 * dt_ * ftm2v_, dtv = dt_;
+  double* y = y_.data();
+  double* v = v_.data();
+  const double* f = f_.data();
+  const double* im = inv_mass_.data();
+#pragma omp parallel for schedule(static) if (n > 2048)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const double s = dtf * im[k];
+    for (std::int64_t a = 3 * k; a < 3 * k + 3; ++a) {
+      v[a] += s * f[a];
+      y[a] += dtv * v[a];
+    }
+  }
+  // forces at the new positions (no allocation after the first call)
+  evaluate();
+  const double* fn = f_.data();
+#pragma omp parallel for schedule(static) if (n > 2048)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const double s = dtf * im[k];
+    for (std::int64_t a = 3 * k; a < 3 * k + 3; ++a) v[a] += s * fn[a];
+  }
+  ++step_;
+}
+
+Thermo VelocityVerlet::thermo() const {
+  Thermo t;
+  t.step = step_;
+  t.time = static_cast<double>(step_) * dt_;
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  double ke2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : ke2) if (n > 2048)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const double* vk = v_.data() + 3 * k;
+    ke2 += body_.mass[static_cast<size_t>(k)] * (vk[0] * vk[0] + vk[1] * vk[1] + vk[2] * vk[2]);
+  }
+  t.kinetic = 0.5 * mvv2e_ * ke2;
+  t.potential = potential_;
+  t.total = t.kinetic + t.potential;
+  const double dof = std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));
+  t.temperature = 2.0 * t.kinetic / (dof * boltz_);
+  return t;
+}
+
+struct DumpWriter::Impl {
+  explicit Impl(const std::string& p) : file(p) {}
+  io::AtomicTextFile file;
+  std::string buffer;
+};
+
+DumpWriter::DumpWriter(const std::string& path) : impl_(new Impl(path)) {}
+DumpWriter::~DumpWriter() { delete impl_; }
+
+void DumpWriter::write(const body::Body& body, std::int64_t step, std::span<const double> y, std::span<const double> v) {
+  const auto& b = body.box;
+  auto& s = impl_->file.stream();
+  const size_t n = body.size();
+  const char* pf[3];
+  for (int a = 0; a < 3; ++a) pf[a] = b.periodic[static_cast<size_t>(a)] ? "pp" : "ff";
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\n", step, n);
+  if (b.triclinic()) {
+    const double xlo = b.lo[0] + std::min({0.0, b.xy, b.xz, b.xy + b.xz});
+    const double xhi = b.hi[0] + std::max({0.0, b.xy, b.xz, b.xy + b.xz});
+    const double ylo = b.lo[1] + std::min(0.0, b.yz), yhi = b.hi[1] + std::max(0.0, b.yz);
+    fmt::format_to(std::back_inserter(out),
+                   "ITEM: BOX BOUNDS xy xz yz {} {} {}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} {:.17g}\n",
+                   pf[0], pf[1], pf[2], xlo, xhi, b.xy, ylo, yhi, b.xz, b.lo[2], b.hi[2], b.yz);
+  } else {
+    fmt::format_to(std::back_inserter(out), "ITEM: BOX BOUNDS {} {} {}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n",
+                   pf[0], pf[1], pf[2], b.lo[0], b.hi[0], b.lo[1], b.hi[1], b.lo[2], b.hi[2]);
+  }
+  fmt::format_to(std::back_inserter(out), "ITEM: ATOMS id type x y z ix iy iz vx vy vz\n");
+  for (size_t k = 0; k < n; ++k) {
+    Eigen::Vector3i img(0, 0, 0);
+    const Eigen::Vector3d w = b.wrap(Eigen::Vector3d(y[3 * k], y[3 * k + 1], y[3 * k + 2]), img);
+    fmt::format_to(std::back_inserter(out), "{} {} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g} {:.17g} {:.17g}\n", body.id[k],
+                   body.type[k], w[0], w[1], w[2], img[0], img[1], img[2], v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+  }
+  s.write(out.data(), static_cast<std::streamsize>(out.size()));
+}
+
+void DumpWriter::commit() { impl_->file.commit(); }
+
+}  // namespace pdcg::dynamics
