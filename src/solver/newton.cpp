@@ -321,6 +321,18 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
   }
 }
 
+bool StaticSolver::reequilibrate(StepReport& rep) {
+  const Eigen::VectorXd u_save = u_, f_save = f_;
+  if (!newton(t_, rep)) {
+    u_ = u_save;
+    f_ = f_save;
+    return false;
+  }
+  rep.t = t_;
+  rep.step = step_;
+  return true;
+}
+
 void StaticSolver::run(const std::function<void(const StepReport&)>& on_step) {
   const int steps = std::max(1, opt_.steps);
   for (int s = 1; s <= steps; ++s) advance_to(static_cast<double>(s) / steps, on_step);

@@ -80,6 +80,10 @@ class StaticSolver {
   /// with cutbacks between the current and the target t).
   void advance_to(double t, const std::function<void(const StepReport&)>& on_step = {});
 
+  /// Re-solves equilibrium at the current load factor (after the model changed,
+  /// e.g. bonds broke). On failure the state is restored and false returned.
+  bool reequilibrate(StepReport& rep);
+
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
   /// Reaction (Σ f_int − f_ext over the set's points) of displacement set i.
