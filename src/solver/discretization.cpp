@@ -371,8 +371,9 @@ bool Discretization::break_bond(int i, int j) {
   return true;
 }
 
-std::size_t Discretization::rebuild_broken() {
+std::size_t Discretization::rebuild_broken(double min_rc) {
   if (dirty_.empty()) return 0;
+  const double rc_min = min_rc > 0 ? min_rc : opt_.min_reciprocal_condition;
   const int d = dim_;
   const std::size_t N = x_.size();
   // Centres to rebuild: the ends of the broken bonds and their reference families.
@@ -413,7 +414,7 @@ std::size_t Discretization::rebuild_broken() {
         g.assign(act.size() * d, 0.0);
         const double rc =
             pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
-        const bool ok = rc >= opt_.min_reciprocal_condition;
+        const bool ok = rc >= rc_min;
         std::size_t k = 0;  // advances over the active members only
         for (auto r = b; r < e; ++r) {
           for (int a = 0; a < d; ++a)
@@ -452,7 +453,7 @@ std::size_t Discretization::rebuild_broken() {
         g.assign(act.size() * d, 0.0);
         const double rc =
             pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
-        const bool ok = rc >= opt_.min_reciprocal_condition;
+        const bool ok = rc >= rc_min;
         std::size_t k = 0;
         for (auto r = b; r < e; ++r) {
           for (int a = 0; a < d; ++a) G[(r - b) * d + a] = (ok && on[r - b]) ? g[k * d + a] : 0.0;

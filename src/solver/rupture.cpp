@@ -115,7 +115,7 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
 }
 
 std::size_t Rupture::commit(const Eigen::VectorXd& u) {
-  const std::size_t n = body_->rebuild_broken();
+  const std::size_t n = body_->rebuild_broken(opt_.min_reciprocal_condition);
   if (n > 0) update_anchors(u);
   return n;
 }
@@ -174,13 +174,30 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
         p.max_value, opt_.critical, p.rebuilt, body_->suppressed_stencils(), p.anchored,
         ok ? "converged" : "FAILED", rep.iterations,
         rep.residual_history.empty() ? NAN : rep.residual_history.back());
-    if (!ok)
-      throw NumericalError(fmt::format(
-          "rupture at load factor {:.6g}: Newton could not re-equilibrate after {} bonds broke "
-          "(pass {}, residual history {}); the crack grows unstably at fixed load. The damped "
-          "dynamic fallback (adaptive dynamic relaxation) is not implemented yet: use smaller "
-          "load steps",
-          solver.load_factor(), p.broken, pass_no, fmt::join(rep.residual_history, " ")));
+    if (!ok) {
+      log::warn(
+          "rupture pass {} at t = {:.6g}: Newton cannot re-equilibrate after {} bonds broke "
+          "(residual history {:.2e}) — the crack grows unstably at fixed load; falling back to "
+          "adaptive dynamic relaxation",
+          pass_no, solver.load_factor(), p.broken, fmt::join(rep.residual_history, " "));
+      StepReport adr;
+      const bool relaxed = solver.relax(opt_.relaxation_tolerance, opt_.relaxation_iterations, adr);
+      StepReport polish;
+      const bool polished = relaxed && solver.reequilibrate(polish);
+      log::info(
+          "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}); Newton polish: "
+          "{} ({} iterations, residual {:.3e})",
+          relaxed ? "converged" : "FAILED", adr.iterations, adr.residual,
+          polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
+          polish.residual_history.empty() ? NAN : polish.residual_history.back());
+      if (!polished)
+        throw NumericalError(fmt::format(
+            "rupture at load factor {:.6g}: neither Newton nor adaptive dynamic relaxation "
+            "({} iterations, residual {:.3e}) re-equilibrated the body after {} bonds broke "
+            "(pass {}); the body may have fallen apart (a free fragment has rigid motions) — "
+            "check the damage field of the last output",
+            solver.load_factor(), adr.iterations, adr.residual, p.broken, pass_no));
+    }
   }
 }
 

@@ -147,7 +147,8 @@ class Discretization {
   /// a stencil whose moment matrix is ill-posed (reciprocal condition below
   /// min_reciprocal_condition) gets G = 0 and weight 0: it carries no stress.
   /// Returns the number of stencils rebuilt.
-  std::size_t rebuild_broken();
+  /// min_reciprocal_condition > 0 replaces the build option for the rebuilt stencils.
+  std::size_t rebuild_broken(double min_reciprocal_condition = 0.0);
   /// Broken fraction of the reference family of each point, in [0, 1].
   std::vector<double> damage() const;
   /// Number of broken (undirected) bonds.
@@ -168,9 +169,9 @@ class Discretization {
   std::vector<double> phi_hat_;
   // rupture state (empty unless enabled)
   DiscretizationOptions opt_;
-  std::vector<char> broken_;        // per directed bond
-  std::vector<char> suppressed_;    // per bond stencil: ill-posed, weight 0
-  std::vector<int> dirty_;          // points whose stencils need a rebuild
+  std::vector<char> broken_;      // per directed bond
+  std::vector<char> suppressed_;  // per bond stencil: ill-posed, weight 0
+  std::vector<int> dirty_;        // points whose stencils need a rebuild
   std::size_t n_broken_ = 0, n_suppressed_ = 0;
 };
 

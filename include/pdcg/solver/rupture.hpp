@@ -35,6 +35,14 @@ struct RuptureOptions {
   RuptureCriterion criterion = RuptureCriterion::bond_stretch;
   double critical = 2.5;
   int max_passes = 200;  ///< staggered passes per load step before giving up
+  /// Adaptive dynamic relaxation fallback (when Newton fails at fixed load): relative
+  /// residual at which it hands back to Newton, and its iteration limit.
+  double relaxation_tolerance = 1e-4;
+  /// A rebuilt (one-sided, thinned) stencil must have a scaled moment matrix with at least
+  /// this reciprocal condition, or it is switched off: nearly singular stencils have huge G
+  /// and turn tiny displacements into J ≤ 0 (measured on the pre-cracked sheet).
+  double min_reciprocal_condition = 1e-3;
+  int relaxation_iterations = 50000;
 };
 
 struct RupturePass {

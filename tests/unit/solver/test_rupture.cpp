@@ -110,7 +110,9 @@ TEST(Rupture, BarBreaksAtTheAnalyticCriticalLoad) {
 // and the load drops.
 TEST(Rupture, BarCascadeStaysFiniteAndDamageIsBounded) {
   auto b = make_bar();
-  Rupture rup(b->body, *b->model, {RuptureCriterion::bond_stretch, 1.25, 200});
+  RuptureOptions ro{RuptureCriterion::bond_stretch, 1.25, 200};
+  ro.relaxation_iterations = 2000;  // the cascade may not re-equilibrate; keep the test fast
+  Rupture rup(b->body, *b->model, ro);
   std::vector<double> reaction;
   for (int s = 1; s <= 3; ++s) {
     b->solver->advance_to(s / 5.0);
