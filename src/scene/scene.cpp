@@ -348,18 +348,21 @@ Scene load_scene(const std::filesystem::path& file) {
           .expected(fmt::format("'{}' in effects: [...] when a '{}:' section is given", sec, sec))
           .fix(fmt::format("add {} to effects, or remove the {} section", sec, sec));
   if (root["initial"] && !has("inertia"))
-    throw c.err(root["initial"], "initial",
-                "initial velocities without inertia: a quasi-static run has no velocities")
+    throw c
+        .err(root["initial"], "initial",
+             "initial velocities without inertia: a quasi-static run has no velocities")
         .fix("add inertia to effects, or remove the initial section");
   if (has("damping") && !has("inertia"))
-    throw c.err(root["effects"], "effects",
-                "damping without inertia: damping acts on velocities, which a quasi-static run "
-                "does not have")
+    throw c
+        .err(root["effects"], "effects",
+             "damping without inertia: damping acts on velocities, which a quasi-static run "
+             "does not have")
         .fix("add inertia to effects (damped dynamics), or remove damping");
   for (const char* eff : {"inertia", "damping"})
     if (has(eff))
-      throw c.err(root["effects"], "effects",
-                  fmt::format("the effect '{}' is not implemented in this build of pdcg", eff))
+      throw c
+          .err(root["effects"], "effects",
+               fmt::format("the effect '{}' is not implemented in this build of pdcg", eff))
           .value(eff)
           .expected("effects: [rupture] (quasi-static with rupture) or no effects");
   if (has("rupture")) {
@@ -370,9 +373,9 @@ Scene load_scene(const std::filesystem::path& file) {
           .expected("rupture: {criterion: bond_stretch, critical: 2.5}");
     c.keys(r, "rupture", {"criterion", "critical", "max_passes"});
     if (r["criterion"])
-      s.rupture_options.criterion = solver::parse_rupture_criterion(c.choice(
-          r["criterion"], "rupture.criterion",
-          {"bond_stretch", "principal_stretch", "energy_density"}));
+      s.rupture_options.criterion = solver::parse_rupture_criterion(
+          c.choice(r["criterion"], "rupture.criterion",
+                   {"bond_stretch", "principal_stretch", "energy_density"}));
     if (!r["critical"])
       throw c.err(r, "rupture.critical", "missing key")
           .expected("the critical value of the criterion, e.g. critical: 2.5");
@@ -384,20 +387,23 @@ Scene load_scene(const std::filesystem::path& file) {
     }
     const bool stretch = s.rupture_options.criterion != solver::RuptureCriterion::energy_density;
     if (stretch && !(s.rupture_options.critical > 1.0))
-      throw c.err(r["critical"], "rupture.critical",
-                  "a critical stretch must exceed 1: the undeformed body (stretch 1) would break")
+      throw c
+          .err(r["critical"], "rupture.critical",
+               "a critical stretch must exceed 1: the undeformed body (stretch 1) would break")
           .value(r["critical"].Scalar())
           .expected("a stretch > 1, e.g. 2.5");
     if (!stretch && !(s.rupture_options.critical > 0.0))
-      throw c.err(r["critical"], "rupture.critical",
-                  "a critical energy density must be positive: the undeformed body (Ψ = 0) "
-                  "would break")
+      throw c
+          .err(r["critical"], "rupture.critical",
+               "a critical energy density must be positive: the undeformed body (Ψ = 0) "
+               "would break")
           .value(r["critical"].Scalar())
           .expected("an energy density > 0");
     if (s.model.correspondence == solver::Correspondence::classical)
-      throw c.err(root["solver"]["correspondence"], "solver.correspondence",
-                  "rupture needs bond-associated correspondence (broken bonds leave the BA "
-                  "families; the classical model has no bond stencils)")
+      throw c
+          .err(root["solver"]["correspondence"], "solver.correspondence",
+               "rupture needs bond-associated correspondence (broken bonds leave the BA "
+               "families; the classical model has no bond stencils)")
           .value("classical")
           .fix("remove solver.correspondence or set it to bond-associated");
   }
