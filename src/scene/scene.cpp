@@ -103,6 +103,11 @@ std::function<double(double)> value_fn(const Ctx& c, const YAML::Node& n, const 
 
 }  // namespace
 
+const std::vector<std::string>& valid_effects() {
+  static const std::vector<std::string> v{"inertia", "damping", "rupture"};
+  return v;
+}
+
 Scene load_scene(const std::filesystem::path& file) {
   Ctx c{file.string()};
   YAML::Node root;
@@ -117,7 +122,7 @@ Scene load_scene(const std::filesystem::path& file) {
   s.source = file;
   c.keys(root, "",
          {"units", "dimension", "plane", "geometry", "horizon", "material", "boundary", "loading",
-          "solver", "output"});
+          "solver", "output", "effects", "inertia", "damping", "rupture", "initial"});
   if (root["units"]) {
     try {
       s.units = parse_unit_style(c.text(root["units"], "units"), file.string());
@@ -321,6 +326,87 @@ Scene load_scene(const std::filesystem::path& file) {
     if (o["every"]) s.output_every = c.integer(o["every"], "output.every");
     if (s.output_every < 1) throw c.err(o["every"], "output.every", "must be at least 1");
   }
+  // effects (docs/effects.md)
+  if (const auto e = root["effects"]) {
+    if (!e.IsSequence())
+      throw c.err(e, "effects", "expected a list")
+          .expected(fmt::format("a list of effects, any of: {}", fmt::join(valid_effects(), ", ")))
+          .fix("effects: [rupture]");
+    for (const auto& n : e) {
+      const std::string name = c.choice(n, "effects[]", valid_effects());
+      if (std::find(s.effects.begin(), s.effects.end(), name) != s.effects.end())
+        throw c.err(n, "effects[]", "effect listed twice").value(name);
+      s.effects.push_back(name);
+    }
+  }
+  auto has = [&](const std::string& name) {
+    return std::find(s.effects.begin(), s.effects.end(), name) != s.effects.end();
+  };
+  for (const char* sec : {"inertia", "damping", "rupture"})
+    if (root[sec] && !has(sec))
+      throw c.err(root[sec], sec, "settings for an effect the scene does not list")
+          .expected(fmt::format("'{}' in effects: [...] when a '{}:' section is given", sec, sec))
+          .fix(fmt::format("add {} to effects, or remove the {} section", sec, sec));
+  if (root["initial"] && !has("inertia"))
+    throw c
+        .err(root["initial"], "initial",
+             "initial velocities without inertia: a quasi-static run has no velocities")
+        .fix("add inertia to effects, or remove the initial section");
+  if (has("damping") && !has("inertia"))
+    throw c
+        .err(root["effects"], "effects",
+             "damping without inertia: damping acts on velocities, which a quasi-static run "
+             "does not have")
+        .fix("add inertia to effects (damped dynamics), or remove damping");
+  for (const char* eff : {"inertia", "damping"})
+    if (has(eff))
+      throw c
+          .err(root["effects"], "effects",
+               fmt::format("the effect '{}' is not implemented in this build of pdcg", eff))
+          .value(eff)
+          .expected("effects: [rupture] (quasi-static with rupture) or no effects");
+  if (has("rupture")) {
+    s.rupture = true;
+    const auto r = root["rupture"];
+    if (!r)
+      throw c.err(root["effects"], "rupture", "rupture is listed but has no settings")
+          .expected("rupture: {criterion: bond_stretch, critical: 2.5}");
+    c.keys(r, "rupture", {"criterion", "critical", "max_passes"});
+    if (r["criterion"])
+      s.rupture_options.criterion = solver::parse_rupture_criterion(
+          c.choice(r["criterion"], "rupture.criterion",
+                   {"bond_stretch", "principal_stretch", "energy_density"}));
+    if (!r["critical"])
+      throw c.err(r, "rupture.critical", "missing key")
+          .expected("the critical value of the criterion, e.g. critical: 2.5");
+    s.rupture_options.critical = c.number(r["critical"], "rupture.critical");
+    if (r["max_passes"]) {
+      s.rupture_options.max_passes = c.integer(r["max_passes"], "rupture.max_passes");
+      if (s.rupture_options.max_passes < 1)
+        throw c.err(r["max_passes"], "rupture.max_passes", "must be at least 1");
+    }
+    const bool stretch = s.rupture_options.criterion != solver::RuptureCriterion::energy_density;
+    if (stretch && !(s.rupture_options.critical > 1.0))
+      throw c
+          .err(r["critical"], "rupture.critical",
+               "a critical stretch must exceed 1: the undeformed body (stretch 1) would break")
+          .value(r["critical"].Scalar())
+          .expected("a stretch > 1, e.g. 2.5");
+    if (!stretch && !(s.rupture_options.critical > 0.0))
+      throw c
+          .err(r["critical"], "rupture.critical",
+               "a critical energy density must be positive: the undeformed body (Ψ = 0) "
+               "would break")
+          .value(r["critical"].Scalar())
+          .expected("an energy density > 0");
+    if (s.model.correspondence == solver::Correspondence::classical)
+      throw c
+          .err(root["solver"]["correspondence"], "solver.correspondence",
+               "rupture needs bond-associated correspondence (broken bonds leave the BA "
+               "families; the classical model has no bond stencils)")
+          .value("classical")
+          .fix("remove solver.correspondence or set it to bond-associated");
+  }
   // relative output directory: relative to the working directory (like every CLI path)
   return s;
 }
@@ -411,6 +497,14 @@ std::string resolved_yaml(const Scene& s) {
     << (s.model.correspondence == solver::Correspondence::classical ? "classical"
                                                                     : "bond-associated")
     << YAML::EndMap;
+  y << YAML::Key << "effects" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const auto& e : s.effects) y << e;
+  y << YAML::EndSeq;
+  if (s.rupture)
+    y << YAML::Key << "rupture" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "criterion" << YAML::Value << solver::to_string(s.rupture_options.criterion) << YAML::Key
+      << "critical" << YAML::Value << s.rupture_options.critical << YAML::Key << "max_passes"
+      << YAML::Value << s.rupture_options.max_passes << YAML::EndMap;
   y << YAML::Key << "output" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
     << "directory" << YAML::Value << s.output_directory.string() << YAML::Key << "every"
     << YAML::Value << s.output_every << YAML::EndMap;
@@ -459,7 +553,7 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
 namespace {
 
 void write_xdmf(const std::filesystem::path& dir, std::size_t n,
-                const std::vector<std::pair<int, double>>& steps) {
+                const std::vector<std::pair<int, double>>& steps, bool damage) {
   io::AtomicTextFile f(dir / "results.xdmf");
   auto& o = f.stream();
   o << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
@@ -477,7 +571,7 @@ void write_xdmf(const std::filesystem::path& dir, std::size_t n,
       o << fmt::format(
           "    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\"><DataItem "
           "Dimensions=\"{}{}\" Format=\"HDF\">{}:{}</DataItem></Attribute>\n",
-          name, type, n, comps > 1 ? " " + std::to_string(comps) : "", h5, path);
+          name, type, n, comps > 1 ? fmt::format(" {}", comps) : std::string(), h5, path);
     };
     attr("displacement", "/fields/displacement", "Vector", 3);
     attr("deformed_position", "/fields/deformed_position", "Vector", 3);
@@ -485,6 +579,7 @@ void write_xdmf(const std::filesystem::path& dir, std::size_t n,
     attr("first_piola_kirchhoff", "/fields/first_piola_kirchhoff", "Tensor", 9);
     attr("cauchy_stress", "/fields/cauchy_stress", "Tensor", 9);
     attr("energy_density", "/fields/energy_density", "Scalar", 1);
+    if (damage) attr("damage", "/fields/damage", "Scalar", 1);
     o << "   </Grid>\n";
   }
   o << "  </Grid>\n </Domain>\n</Xdmf>\n";
@@ -504,7 +599,7 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
   solver::DiscretizationOptions dopt;
   dopt.horizon_factor = s.horizon_factor;
   dopt.horizon = s.horizon_value;
-  const auto body = solver::Discretization::grid(s.geometry, dopt);
+  auto body = solver::Discretization::grid(s.geometry, dopt);
   log::info("body: {} points, spacing {}, horizon {}", body.size(), body.spacing(), body.horizon());
   const auto kin = s.dimension == 3      ? solver::Kinematics::three_d
                    : s.plane == "stress" ? solver::Kinematics::plane_stress
@@ -537,6 +632,13 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
     throw e.source(s.source.string());
   }
   solver::StaticSolver& solver = *solver_ptr;
+  // Rupture: only when the scene lists it (no broken flags, no checks otherwise).
+  std::unique_ptr<solver::Rupture> rupture;
+  if (s.rupture) {
+    rupture = std::make_unique<solver::Rupture>(body, model, s.rupture_options);
+    log::info("rupture: {} > {} breaks a bond; staggered re-equilibration at fixed load",
+              solver::to_string(s.rupture_options.criterion), s.rupture_options.critical);
+  }
   const int d = s.dimension;
   const std::size_t N = body.size();
   std::vector<std::pair<int, double>> written;
@@ -545,6 +647,7 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
   const char* axes[3] = {"x", "y", "z"};
   for (const auto& ds : dsets)
     for (int a = 0; a < d; ++a) csv << "," << ds.name << "_f" << axes[a];
+  if (rupture) csv << ",broken_bonds";
   csv << "\n";
   auto write_csv = [&] {
     io::AtomicTextFile f(dir / "reactions.csv");
@@ -554,15 +657,18 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
   csv << "0,0";
   for (std::size_t i = 0; i < dsets.size(); ++i)
     for (int a = 0; a < d; ++a) csv << ",0";
+  if (rupture) csv << ",0";
   csv << "\n";
   write_csv();
   int counter = 0;
   auto on_step = [&](const solver::StepReport& rep) {
+    if (rupture) rupture->stagger(solver);  // re-equilibrate at this load until no bond breaks
     csv << rep.step << "," << fmt::format("{:.10g}", rep.t);
     for (std::size_t i = 0; i < dsets.size(); ++i) {
       const Vec3 r = solver.reaction(i);
       for (int a = 0; a < d; ++a) csv << "," << fmt::format("{:.10g}", r(a));
     }
+    if (rupture) csv << "," << body.broken_bonds();
     csv << "\n";
     write_csv();
     ++counter;
@@ -600,13 +706,14 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
     h5.write("fields/first_piola_kirchhoff", Pv, {N, 9});
     h5.write("fields/cauchy_stress", Sv, {N, 9});
     h5.write("fields/energy_density", W, {N});
+    if (rupture) h5.write("fields/damage", body.damage(), {N});
     h5.attribute("/", "step", static_cast<std::int64_t>(rep.step));
     h5.attribute("/", "load_factor", rep.t);
     h5.attribute("/", "newton_iterations", static_cast<std::int64_t>(rep.iterations));
     h5.attribute("/", "residual", rep.residual);
     h5.commit();
     written.emplace_back(rep.step, rep.t);
-    write_xdmf(dir, N, written);
+    write_xdmf(dir, N, written, s.rupture);
   };
   solver.run(on_step);
   log::info("done: {} steps, results in {}", counter, dir.string());

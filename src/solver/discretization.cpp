@@ -17,7 +17,12 @@ InfluenceFunction gaussian_influence() {
   return [](double r, double delta) { return std::exp(-4.0 * r * r / (delta * delta)); };
 }
 
-bool crosses(const Crack& c, const Vec3& a, const Vec3& b) {
+bool crosses(const Crack& c, const Vec3& a_in, const Vec3& b_in) {
+  // Canonical order of the ends: the orientation tests round differently for a–b and b–a
+  // when the bond passes through a crack tip, which made families asymmetric.
+  const bool swap = std::make_pair(a_in.x(), a_in.y()) > std::make_pair(b_in.x(), b_in.y());
+  const Vec3& a = swap ? b_in : a_in;
+  const Vec3& b = swap ? a_in : b_in;
   // Proper intersection of segments a–b and c.from–c.to in the xy-plane.
   auto orient = [](double ax, double ay, double bx, double by, double cx, double cy) {
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
@@ -155,6 +160,7 @@ Discretization Discretization::from_points(int dimension, std::vector<Vec3> x,
 }
 
 void Discretization::build(const DiscretizationOptions& opt) {
+  opt_ = opt;
   const std::size_t N = x_.size();
   const int d = dim_;
   // ---- families by a cell list (cell size δ) ----
@@ -336,6 +342,153 @@ void Discretization::build(const DiscretizationOptions& opt) {
         "well-posed first-order PDDO (reciprocal condition {:.3g}); enlarge the horizon "
         "(horizon: {{factor: 3.015}} or more) or refine the grid near that point",
         x_[bad](0), x_[bad](1), x_[bad](2), bad_rc));
+}
+
+// ---------------------------------------------------------------- rupture
+
+void Discretization::enable_rupture() {
+  if (!broken_.empty()) return;
+  broken_.assign(families_.index.size(), 0);
+  suppressed_.assign(bond_.size(), 0);
+}
+
+std::int64_t Discretization::bond_index(int i, int j) const {
+  const int* b = families_.index.data() + families_.begin(i);
+  const int* e = families_.index.data() + families_.end(i);
+  const int* p = std::lower_bound(b, e, j);
+  return (p != e && *p == j) ? families_.begin(i) + (p - b) : -1;
+}
+
+bool Discretization::break_bond(int i, int j) {
+  if (broken_.empty()) throw Error("internal error: break_bond without enable_rupture");
+  const std::int64_t q = bond_index(i, j), r = bond_index(j, i);
+  if (q < 0 || r < 0) throw Error("internal error: break_bond of a pair that is not a bond");
+  if (broken_[q]) return false;
+  broken_[q] = broken_[r] = 1;
+  ++n_broken_;
+  dirty_.push_back(i);
+  dirty_.push_back(j);
+  return true;
+}
+
+std::size_t Discretization::rebuild_broken(double min_rc) {
+  if (dirty_.empty()) return 0;
+  const double rc_min = min_rc > 0 ? min_rc : opt_.min_reciprocal_condition;
+  const int d = dim_;
+  const std::size_t N = x_.size();
+  // Centres to rebuild: the ends of the broken bonds and their reference families.
+  std::vector<char> mark(N, 0);
+  for (int p : dirty_) {
+    mark[p] = 1;
+    for (auto q = families_.begin(p); q < families_.end(p); ++q) mark[families_.index[q]] = 1;
+  }
+  dirty_.clear();
+  std::vector<int> centres;
+  for (std::size_t i = 0; i < N; ++i)
+    if (mark[i]) centres.push_back(static_cast<int>(i));
+  auto intact = [&](int a, int b) {
+    const std::int64_t q = bond_index(a, b);
+    return q >= 0 && !broken_[q];
+  };
+  std::size_t rebuilt = 0;
+#pragma omp parallel reduction(+ : rebuilt)
+  {
+    std::vector<int> act;
+    std::vector<double> g;
+    std::vector<char> on;
+#pragma omp for schedule(dynamic, 8)
+    for (std::size_t c = 0; c < centres.size(); ++c) {
+      const int i = centres[c];
+      // point stencil {i} ∪ intact H_i
+      {
+        const auto b = point_.offsets[i], e = point_.offsets[i + 1];
+        act.clear();
+        on.assign(e - b, 0);
+        for (auto r = b; r < e; ++r) {
+          const int m = point_.index[r];
+          if (m == i || intact(i, m)) {
+            act.push_back(m);
+            on[r - b] = 1;
+          }
+        }
+        g.assign(act.size() * d, 0.0);
+        const double rc =
+            pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
+        const bool ok = rc >= rc_min;
+        std::size_t k = 0;  // advances over the active members only
+        for (auto r = b; r < e; ++r) {
+          for (int a = 0; a < d; ++a)
+            point_.grad[r * d + a] = (ok && on[r - b]) ? g[k * d + a] : 0.0;
+          if (on[r - b]) ++k;
+        }
+        ++rebuilt;
+      }
+      // BA stencils of i: members, G, φ
+      double famvol = vol_[i];
+      for (auto q = families_.begin(i); q < families_.end(i); ++q)
+        if (!broken_[q]) famvol += vol_[families_.index[q]];
+      double norm = 0.0;
+      for (auto q = families_.begin(i); q < families_.end(i); ++q) {
+        const int j = families_.index[q];
+        const auto b = bond_.offsets[q], e = bond_.offsets[q + 1];
+        double* G = bond_.grad.data() + b * d;
+        phi_hat_[q] = 0.0;
+        suppressed_[q] = 0;
+        if (broken_[q]) {
+          std::fill(G, G + (e - b) * d, 0.0);
+          ++rebuilt;
+          continue;
+        }
+        act.clear();
+        on.assign(e - b, 0);
+        double v = 0.0;
+        for (auto r = b; r < e; ++r) {
+          const int m = bond_.index[r];
+          if (m == i || m == j || (intact(i, m) && intact(j, m))) {
+            act.push_back(m);
+            on[r - b] = 1;
+            v += vol_[m];
+          }
+        }
+        g.assign(act.size() * d, 0.0);
+        const double rc =
+            pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
+        const bool ok = rc >= rc_min;
+        std::size_t k = 0;
+        for (auto r = b; r < e; ++r) {
+          for (int a = 0; a < d; ++a) G[(r - b) * d + a] = (ok && on[r - b]) ? g[k * d + a] : 0.0;
+          if (on[r - b]) ++k;
+        }
+        if (ok) {
+          phi_hat_[q] = v / famvol;
+          norm += phi_hat_[q] * vol_[j];
+        } else {
+          suppressed_[q] = 1;
+        }
+        ++rebuilt;
+      }
+      for (auto q = families_.begin(i); q < families_.end(i); ++q) {
+        if (norm > 0) phi_hat_[q] /= norm;
+        bond_.weight[q] = vol_[i] * phi_hat_[q] * vol_[families_.index[q]];
+      }
+    }
+  }
+  n_suppressed_ = static_cast<std::size_t>(std::count(suppressed_.begin(), suppressed_.end(), 1));
+  return rebuilt;
+}
+
+std::vector<double> Discretization::damage() const {
+  const std::size_t N = x_.size();
+  std::vector<double> D(N, 0.0);
+  if (broken_.empty()) return D;
+  for (std::size_t i = 0; i < N; ++i) {
+    const auto n = families_.end(i) - families_.begin(i);
+    if (n == 0) continue;
+    std::int64_t k = 0;
+    for (auto q = families_.begin(i); q < families_.end(i); ++q) k += broken_[q];
+    D[i] = static_cast<double>(k) / static_cast<double>(n);
+  }
+  return D;
 }
 
 }  // namespace pdcg::solver

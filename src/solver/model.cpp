@@ -151,6 +151,11 @@ double Model::energy(const Eigen::VectorXd& u) const {
     if (!material_->evaluate(stencil_gradient(S, s, u), &psi, nullptr, nullptr)) ok = false;
     e += S.weight[s] * psi;
   }
+  for (std::size_t a = 0; a < anchor_points_.size(); ++a)
+    for (int c = 0; c < d_; ++c) {
+      const double du = u[d_ * anchor_points_[a] + c] - anchor_u_[d_ * a + c];
+      e += 0.5 * anchor_k_ * du * du;
+    }
   return ok ? e : std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -175,7 +180,24 @@ bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
       for (int a = 0; a < d_; ++a)
         for (int J = 0; J < d_; ++J) f[d_ * k + a] -= Pbar_[k](a, J) * defect_[k](J);
   }
+  if (!anchor_points_.empty()) add_anchors(u, f, nullptr);
   return true;
+}
+
+void Model::set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness) {
+  anchor_points_ = std::move(points);
+  anchor_u_ = std::move(targets);
+  anchor_k_ = stiffness;
+}
+
+void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow* K) const {
+  for (std::size_t a = 0; a < anchor_points_.size(); ++a) {
+    const int k = anchor_points_[a];
+    for (int c = 0; c < d_; ++c) {
+      f[d_ * k + c] += anchor_k_ * (u[d_ * k + c] - anchor_u_[d_ * a + c]);
+      if (K) K->coeffRef(d_ * k + c, d_ * k + c) += anchor_k_;  // diagonal is in the pattern
+    }
+  }
 }
 
 bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
@@ -261,6 +283,7 @@ bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
       }
     }
   }  // omp parallel
+  if (!anchor_points_.empty()) add_anchors(u, f, &K);
   return true;
 }
 

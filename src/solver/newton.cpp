@@ -321,6 +321,94 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
   }
 }
 
+bool StaticSolver::reequilibrate(StepReport& rep) {
+  const Eigen::VectorXd u_save = u_, f_save = f_;
+  if (!newton(t_, rep)) {
+    u_ = u_save;
+    f_ = f_save;
+    return false;
+  }
+  rep.t = t_;
+  rep.step = step_;
+  return true;
+}
+
+bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
+  const std::size_t n = model_->dofs();
+  const int nf = static_cast<int>(free_dofs_.size());
+  Eigen::VectorXd fext, f, u = u_;
+  external_force(t_, fext);
+  for (std::size_t i = 0; i < n; ++i)
+    if (prescribed_by_[i] >= 0) {
+      const auto& set = dsets_[prescribed_by_[i] >> 2];
+      u[i] = set.component[prescribed_by_[i] & 3](t_);
+    }
+  if (!model_->internal_force_and_tangent(u, f, K_)) {
+    log::warn("adaptive dynamic relaxation: inadmissible deformation (J ≤ 0) at the start state");
+    return false;
+  }
+  // fictitious masses from the Gershgorin row sums of the tangent (Δt = 1)
+  Eigen::VectorXd lam = Eigen::VectorXd::Zero(nf);
+  for (int r = 0; r < nf; ++r) {
+    const int row = free_dofs_[r];
+    double s = 0;
+    for (auto q = K_.outerIndexPtr()[row]; q < K_.outerIndexPtr()[row + 1]; ++q)
+      s += std::abs(K_.valuePtr()[q]);
+    lam[r] = std::max(0.25 * s, 1e-300);
+  }
+  Eigen::VectorXd r_now(nf), r_old(nf), v(nf);
+  auto residual = [&](double& rel) {
+    for (int i = 0; i < nf; ++i) r_now[i] = fext[free_dofs_[i]] - f[free_dofs_[i]];
+    rel = r_now.norm() / std::max({f.norm(), fext.norm(), 1e-300});
+  };
+  double rel = 0;
+  residual(rel);
+  rep.residual_history.assign(1, rel);
+  v = 0.5 * r_now.cwiseQuotient(lam);
+  int it = 0;
+  for (; it < max_iterations && rel > tol; ++it) {
+    for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += v[i];
+    r_old = r_now;
+    if (!model_->internal_force(u, f)) {
+      // inadmissible F (J ≤ 0): step back, make the fictitious masses 4× heavier, stop the motion
+      for (int i = 0; i < nf; ++i) u[free_dofs_[i]] -= v[i];
+      rep.iterations = it;
+      rep.residual = rel;
+      if (!model_->internal_force(u, f)) return false;
+      residual(rel);
+      lam *= 4.0;
+      log::debug("adaptive dynamic relaxation: J ≤ 0 at iteration {}, fictitious masses ×4", it);
+      v = 0.5 * r_now.cwiseQuotient(lam);
+      if (lam.maxCoeff() > 1e12 * std::max(1.0, f.norm())) return false;
+      continue;
+    }
+    residual(rel);
+    // Kilic & Madenci's local diagonal stiffness and the damping coefficient
+    double num = 0, den = 0;
+    for (int i = 0; i < nf; ++i) {
+      const double ui = u[free_dofs_[i]];
+      if (v[i] != 0.0) {
+        const double k = -(r_now[i] - r_old[i]) / (lam[i] * v[i]);
+        num += ui * k * ui;
+      }
+      den += ui * ui;
+    }
+    const double c = (num > 0 && den > 0) ? 2.0 * std::sqrt(num / den) : 0.0;
+    v = ((2.0 - c) * v + 2.0 * r_now.cwiseQuotient(lam)) / (2.0 + c);
+    if (it % 500 == 0) rep.residual_history.push_back(rel);
+    if (it % 2000 == 0)
+      log::debug("adaptive dynamic relaxation: iteration {}, residual {:.3e}, c = {:.3e}", it, rel,
+                 c);
+  }
+  rep.residual_history.push_back(rel);
+  rep.iterations = it;
+  rep.residual = rel;
+  if (rel > tol) return false;
+  u_ = u;
+  f_ = f;
+  return true;
+}
+
 void StaticSolver::run(const std::function<void(const StepReport&)>& on_step) {
   const int steps = std::max(1, opt_.steps);
   for (int s = 1; s <= steps; ++s) advance_to(static_cast<double>(s) / steps, on_step);

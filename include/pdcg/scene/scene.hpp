@@ -25,6 +25,11 @@
 /// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
 /// Displacement and traction values are numbers (constant) or expressions in t.
 /// Unknown keys are errors listing the valid ones.
+/// Effects (issue 7, docs/effects.md):
+/// \code{.yaml}
+///   effects: [rupture]
+///   rupture: {criterion: bond_stretch, critical: 2.5}   # | principal_stretch | energy_density
+/// \endcode
 #pragma once
 
 #include <array>
@@ -38,6 +43,7 @@
 #include "pdcg/solver/discretization.hpp"
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
+#include "pdcg/solver/rupture.hpp"
 
 namespace pdcg::scene {
 
@@ -69,7 +75,14 @@ struct Scene {
   solver::ModelOptions model;
   std::filesystem::path output_directory = "out";
   int output_every = 1;
+  /// `effects:` (docs/effects.md). Only what is listed is computed, allocated and written.
+  std::vector<std::string> effects;
+  bool rupture = false;
+  solver::RuptureOptions rupture_options;
 };
+
+/// Effects a scene may list, and those this build runs.
+const std::vector<std::string>& valid_effects();
 
 /// Reads and validates a scene file. Throws InputError naming file, line and key.
 Scene load_scene(const std::filesystem::path& file);

@@ -125,6 +125,37 @@ class Discretization {
   /// φ̂_ij per bond, in CSR order of families().
   const std::vector<double>& bond_weights() const { return phi_hat_; }
 
+  // ---- rupture (docs/effects.md) -------------------------------------------
+  // Nothing below is allocated or touched unless enable_rupture() is called: a
+  // body without rupture carries no broken-bond flags, and the stencil data the
+  // model kernels read are exactly those of the intact body.
+
+  /// Allocates the per-bond broken flags (all intact).
+  void enable_rupture();
+  bool rupture_enabled() const { return !broken_.empty(); }
+  /// CSR position of the bond (i, j) in families(), or −1.
+  std::int64_t bond_index(int i, int j) const;
+  /// Marks the bond (i, j) broken in both directions (no stencil rebuilt yet).
+  /// Returns false if it was already broken.
+  bool break_bond(int i, int j);
+  bool broken(std::int64_t q) const { return broken_[q] != 0; }
+  /// Rebuilds, after break_bond calls, every stencil that a broken bond touches:
+  /// the point stencils and all BA stencils centred at the ends of the broken
+  /// bonds and at their (reference) family members. A member m leaves B_ij when
+  /// bond (i, m) or (j, m) is broken (its G becomes 0); φ_ij is recomputed from
+  /// the intact families and renormalised; a broken bond's stencil gets weight 0;
+  /// a stencil whose moment matrix is ill-posed (reciprocal condition below
+  /// min_reciprocal_condition) gets G = 0 and weight 0: it carries no stress.
+  /// Returns the number of stencils rebuilt.
+  /// min_reciprocal_condition > 0 replaces the build option for the rebuilt stencils.
+  std::size_t rebuild_broken(double min_reciprocal_condition = 0.0);
+  /// Broken fraction of the reference family of each point, in [0, 1].
+  std::vector<double> damage() const;
+  /// Number of broken (undirected) bonds.
+  std::size_t broken_bonds() const { return n_broken_; }
+  /// Stencils switched off because their family became ill-posed.
+  std::size_t suppressed_stencils() const { return n_suppressed_; }
+
  private:
   void build(const DiscretizationOptions& opt);
   int dim_ = 2;
@@ -136,6 +167,12 @@ class Discretization {
   Csr families_;
   Stencils point_, bond_;
   std::vector<double> phi_hat_;
+  // rupture state (empty unless enabled)
+  DiscretizationOptions opt_;
+  std::vector<char> broken_;      // per directed bond
+  std::vector<char> suppressed_;  // per bond stencil: ill-posed, weight 0
+  std::vector<int> dirty_;        // points whose stencils need a rebuild
+  std::size_t n_broken_ = 0, n_suppressed_ = 0;
 };
 
 /// True if the segment a–b crosses the crack (xy-projection).

@@ -81,6 +81,14 @@ class Model {
   /// b_k = Σ_S w_S G_S^k.
   const std::vector<Vec3>& smeared_normals() const { return smeared_; }
 
+  /// Rupture only: points that no stencil couples any more (every stencil that
+  /// held them is broken or ill-posed) would leave zero rows in K. They are
+  /// parked at their displacement u⁰ at the moment they were cut loose by a
+  /// spring f_k = κ (u_k − u⁰_k) (energy ½κ|u_k − u⁰_k|²) that exerts no force on
+  /// any other point. Empty (and not looked at per bond) without rupture.
+  void set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness);
+  const std::vector<int>& anchors() const { return anchor_points_; }
+
  private:
   Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;
   bool evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const;
@@ -103,6 +111,10 @@ class Model {
   mutable std::vector<Tangent> As_;
   mutable std::vector<Mat3> Pbar_;
   mutable std::vector<Tangent> Abar_;
+  std::vector<int> anchor_points_;
+  std::vector<double> anchor_u_;  // d per anchored point
+  double anchor_k_ = 0.0;
+  void add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow* K) const;
 };
 
 }  // namespace pdcg::solver

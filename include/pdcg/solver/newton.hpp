@@ -80,6 +80,19 @@ class StaticSolver {
   /// with cutbacks between the current and the target t).
   void advance_to(double t, const std::function<void(const StepReport&)>& on_step = {});
 
+  /// Re-solves equilibrium at the current load factor (after the model changed,
+  /// e.g. bonds broke). On failure the state is restored and false returned.
+  bool reequilibrate(StepReport& rep);
+  /// Adaptive dynamic relaxation at the current load (Underwood 1983; local stiffness
+  /// estimate and damping of Kilic & Madenci, Theor. Appl. Fract. Mech. 53 (2010) 194–204):
+  /// fictitious masses λ_ii = ¼ Σ_j |K_ij| (Δt = 1, Gershgorin: stable), damping
+  ///   c_n = 2 √(uᵀ ¹K u / uᵀu),  ¹K_ii = −(r_i^n − r_i^{n−1}) / (λ_ii u̇_i^{n−½}),
+  ///   u̇^{n+½} = ((2 − c_n) u̇^{n−½} + 2 r^n/λ) / (2 + c_n),  u^{n+1} = u^n + u̇^{n+½}.
+  /// The quasi-static fallback when Newton cannot follow (unstable crack growth): it
+  /// converges from far away where Newton does not. Stops when ‖r_f‖ ≤ tol·‖f‖ (then
+  /// Newton polishes). Returns false (state restored) after max_iterations.
+  bool relax(double tol, int max_iterations, StepReport& rep);
+
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
   /// Reaction (Σ f_int − f_ext over the set's points) of displacement set i.

@@ -1,0 +1,111 @@
+#include "pdcg/solver/explicit.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
+
+namespace pdcg::solver {
+
+ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
+                               ExplicitOptions options)
+    : model_(&model), dsets_(std::move(displacement)), opt_(options) {
+  const int d = model.dimension();
+  const std::size_t n = model.dofs();
+  if (!(opt_.density > 0)) throw InputError("density must be positive").key("material.density");
+  m_.resize(n);
+  for (std::size_t k = 0; k < model.body().size(); ++k)
+    for (int a = 0; a < d; ++a) m_[d * k + a] = opt_.density * model.body().volumes()[k];
+  prescribed_.assign(n, -1);
+  for (std::size_t s = 0; s < dsets_.size(); ++s)
+    for (int p : dsets_[s].points)
+      for (int a = 0; a < d; ++a)
+        if (dsets_[s].component[a]) prescribed_[d * p + a] = static_cast<int>(s << 2 | a);
+  u_ = Eigen::VectorXd::Zero(n);
+  v_ = Eigen::VectorXd::Zero(n);
+  const double crit = critical_time_step(u_);
+  if (opt_.time_step > 0) {
+    if (opt_.time_step > crit)
+      throw InputError("time step above the stable limit of the explicit integrator")
+          .key("inertia.time_step")
+          .value(fmt::format("{}", opt_.time_step))
+          .expected(fmt::format("at most {:.6g} (Gershgorin bound 2/√(max_k Σ|K_kn|/M_k))", crit))
+          .fix("use time_step: auto (with safety < 1)");
+    dt_ = opt_.time_step;
+  } else {
+    if (!(opt_.safety > 0 && opt_.safety <= 1))
+      throw InputError("safety factor outside (0, 1]")
+          .key("inertia.safety")
+          .value(fmt::format("{}", opt_.safety))
+          .expected("0 < safety ≤ 1, e.g. 0.8");
+    dt_ = opt_.safety * crit;
+  }
+  log::info("explicit dynamics: Δt = {:.4g} (stable limit {:.4g} from the Gershgorin bound)", dt_,
+            crit);
+  compute_acceleration(0.0);
+}
+
+double ExplicitSolver::critical_time_step(const Eigen::VectorXd& u) const {
+  Eigen::VectorXd f;
+  SparseRow K;
+  if (!model_->internal_force_and_tangent(u, f, K))
+    throw NumericalError("inadmissible deformation while estimating the stable time step");
+  double wmax2 = 0.0;
+  for (int r = 0; r < K.outerSize(); ++r) {
+    if (prescribed_[r] >= 0) continue;
+    double s = 0;
+    for (auto q = K.outerIndexPtr()[r]; q < K.outerIndexPtr()[r + 1]; ++q)
+      if (prescribed_[K.innerIndexPtr()[q]] < 0) s += std::abs(K.valuePtr()[q]);
+    wmax2 = std::max(wmax2, s / m_[r]);
+  }
+  return 2.0 / std::sqrt(wmax2);
+}
+
+void ExplicitSolver::set_displacement(const Eigen::VectorXd& u) {
+  u_ = u;
+  compute_acceleration(t_);
+}
+
+void ExplicitSolver::compute_acceleration(double t) {
+  if (!model_->internal_force(u_, f_))
+    throw NumericalError(
+        fmt::format("inadmissible deformation (J ≤ 0) at time {:.6g}: the time step may be too "
+                    "large or the motion too violent",
+                    t));
+  a_ = -f_.cwiseQuotient(m_);
+  if (opt_.damping > 0) a_ -= opt_.damping * v_;
+  for (std::size_t i = 0; i < prescribed_.size(); ++i)
+    if (prescribed_[i] >= 0) a_[i] = 0.0;
+}
+
+void ExplicitSolver::step() {
+  const double h = dt_, t1 = t_ + h;
+  v_ += 0.5 * h * a_;
+  u_ += h * v_;
+  for (std::size_t i = 0; i < prescribed_.size(); ++i) {
+    const int p = prescribed_[i];
+    if (p < 0) continue;
+    const auto& fn = dsets_[p >> 2].component[p & 3];
+    u_[i] = fn(t1);
+    v_[i] = (fn(t1 + 0.5 * h) - fn(t1 - 0.5 * h)) / h;
+  }
+  t_ = t1;
+  compute_acceleration(t_);
+  v_ += 0.5 * h * a_;
+  for (std::size_t i = 0; i < prescribed_.size(); ++i) {
+    const int p = prescribed_[i];
+    if (p < 0) continue;
+    const auto& fn = dsets_[p >> 2].component[p & 3];
+    v_[i] = (fn(t1 + 0.5 * h) - fn(t1 - 0.5 * h)) / h;
+  }
+}
+
+double ExplicitSolver::kinetic_energy() const { return 0.5 * v_.dot(m_.cwiseProduct(v_)); }
+
+double ExplicitSolver::modified_kinetic_energy() const {
+  return kinetic_energy() - dt_ * dt_ / 8.0 * a_.dot(m_.cwiseProduct(a_));
+}
+
+}  // namespace pdcg::solver

@@ -1,0 +1,128 @@
+// Scene effects (issue 7, docs/effects.md): the effects list, its errors, and
+// "only what a scene asks for" in the output files.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pdcg/core/error.hpp"
+#include "pdcg/io/hdf5.hpp"
+#include "pdcg/scene/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace pdcg;
+
+namespace {
+
+const char* kBase = R"(dimension: 2
+plane: stress
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 1.0], spacing: 0.1,
+           cracks: [{from: [0.0, 0.5], to: [0.3, 0.5]}]}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 100.0}
+boundary:
+  - {name: bottom, region: {y_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: top,    region: {y_min: 1.0}, displacement: {x: 0.0, y: "0.15*t"}}
+loading: {steps: 3}
+)";
+
+fs::path write(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "pdcg_effects_test";
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string error_of(const std::string& extra) {
+  try {
+    scene::load_scene(write("bad.yaml", std::string(kBase) + extra));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(Effects, BadInputIsReported) {
+  auto e = error_of("effects: [rupture, cracking]\nrupture: {critical: 2}\n");
+  EXPECT_TRUE(has(e, "cracking") && has(e, "inertia, damping, rupture")) << e;
+  EXPECT_TRUE(has(e, ":10")) << e;  // line of the bad entry
+  e = error_of("effects: [rupture, rupture]\nrupture: {critical: 2}\n");
+  EXPECT_TRUE(has(e, "listed twice")) << e;
+  e = error_of("rupture: {critical: 2}\n");
+  EXPECT_TRUE(has(e, "does not list") && has(e, "add rupture to effects")) << e;
+  e = error_of("effects: [damping]\n");
+  EXPECT_TRUE(has(e, "damping without inertia")) << e;
+  e = error_of("initial: {velocity: {x: \"0\"}}\n");
+  EXPECT_TRUE(has(e, "without inertia")) << e;
+  e = error_of("effects: [inertia]\n");
+  EXPECT_TRUE(has(e, "not implemented")) << e;
+  e = error_of("effects: [rupture]\n");
+  EXPECT_TRUE(has(e, "no settings")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: bond_stretch}\n");
+  EXPECT_TRUE(has(e, "rupture.critical") && has(e, "missing")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: stretchiness, critical: 2}\n");
+  EXPECT_TRUE(has(e, "principal_stretch, energy_density")) << e;
+  e = error_of("effects: [rupture]\nrupture: {critical: 2, crit: 3}\n");
+  EXPECT_TRUE(has(e, "unknown key") && has(e, "criterion, critical, max_passes")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: principal_stretch, critical: 0.9}\n");
+  EXPECT_TRUE(has(e, "must exceed 1")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: energy_density, critical: 0}\n");
+  EXPECT_TRUE(has(e, "must be positive")) << e;
+  e = error_of("solver: {correspondence: classical}\neffects: [rupture]\nrupture: {critical: 2}\n");
+  EXPECT_TRUE(has(e, "bond-associated")) << e;
+}
+
+TEST(Effects, ResolvedSceneKeepsTheEffects) {
+  const auto s = scene::load_scene(
+      write("r.yaml", std::string(kBase) +
+                          "effects: [rupture]\nrupture: {criterion: energy_density, critical: "
+                          "0.75, max_passes: 7}\n"));
+  const auto s2 = scene::load_scene(write("r2.yaml", scene::resolved_yaml(s)));
+  EXPECT_TRUE(s2.rupture);
+  EXPECT_EQ(s2.rupture_options.criterion, solver::RuptureCriterion::energy_density);
+  EXPECT_EQ(s2.rupture_options.critical, 0.75);
+  EXPECT_EQ(s2.rupture_options.max_passes, 7);
+}
+
+// Only what a scene asks for: no damage field, no broken-bond column without rupture;
+// with rupture both exist, the XDMF lists the damage, and damage is in [0, 1].
+TEST(Effects, OutputsOnlyWhatTheSceneAsksFor) {
+  const fs::path out0 = fs::temp_directory_path() / "pdcg_effects_test" / "plain";
+  const fs::path out1 = fs::temp_directory_path() / "pdcg_effects_test" / "rupture";
+  fs::remove_all(out0);
+  fs::remove_all(out1);
+  scene::run_scene(scene::load_scene(write("plain.yaml", kBase)), out0);
+  scene::run_scene(scene::load_scene(write(
+                       "rup.yaml", std::string(kBase) + "effects: [rupture]\nrupture: {criterion: "
+                                                        "bond_stretch, critical: 1.15}\n")),
+                   out1);
+  {
+    io::H5Reader h5(out0 / "results_0003.h5");
+    EXPECT_FALSE(h5.exists("fields/damage"));
+    std::ifstream csv(out0 / "reactions.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_FALSE(has(header, "broken"));
+  }
+  io::H5Reader h5(out1 / "results_0003.h5");
+  ASSERT_TRUE(h5.exists("fields/damage"));
+  const auto D = h5.read_double("fields/damage");
+  double dmax = 0;
+  for (double v : D) {
+    EXPECT_GE(v, 0.0);
+    EXPECT_LE(v, 1.0);
+    dmax = std::max(dmax, v);
+  }
+  EXPECT_GT(dmax, 0.0);  // the pre-crack tip opened past a stretch of 1.15
+  std::ifstream x(out1 / "results.xdmf");
+  std::stringstream ss;
+  ss << x.rdbuf();
+  EXPECT_TRUE(has(ss.str(), "/fields/damage"));
+}
