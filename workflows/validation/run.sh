@@ -23,8 +23,11 @@ PY=/usr/bin/python3  # Debian's python (numpy/scipy/matplotlib from apt)
 OUT=${1:-$PDCG_BUILD/validation}
 mkdir -p "$OUT"
 "$PY" "$HERE/plate_hole_fem.py" --levels "${FEM_LEVELS:-5}" --base 6 --csv "$OUT/plate_hole_fem.csv" | tee "$OUT/fem.log"
-pdcg_build
-cmake --build "$PDCG_BUILD" --target test_validation >/dev/null
+pdcg_build_target() {  # configure once, build only the given targets
+  [[ -f "$PDCG_BUILD/CMakeCache.txt" ]] || cmake -S "$PDCG_ROOT" -B "$PDCG_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release
+  cmake --build "$PDCG_BUILD" -j"${PDCG_JOBS:-2}" --target "$@"
+}
+pdcg_build_target test_validation >/dev/null
 for h in ${SPACINGS:-0.05 0.025}; do
   PDCG_PLATE_SPACING=$h "$PDCG_BUILD/test_validation" --gtest_filter='*DISABLED_*' \
     --gtest_also_run_disabled_tests | grep -E '^step|max relative' >"$OUT/pdcg_$h.txt" || true
