@@ -32,6 +32,7 @@ struct LammpsEngine::Impl {
   mutable std::vector<std::string> commands;
 };
 
+#if PDCG_WITH_LAMMPS  // helpers used only when LAMMPS is embedded
 namespace {
 
 std::string g17(double v) { return fmt::format("{:.17g}", v); }
@@ -100,6 +101,7 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
 }
 
 }  // namespace
+#endif
 
 LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>()) {
   require_supported_styles(spec);

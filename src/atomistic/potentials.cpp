@@ -44,6 +44,12 @@ struct LJCut {
     fpair = forcelj * r2inv;
     e = r6inv * (c.lj3 * r6inv - c.lj4) - c.offset;
   }
+  /// h = (d fpair/dr)/r:  fpair = lj1 r⁻¹⁴ − lj2 r⁻⁸  →  h = (−14 lj1 r⁻¹⁶ + 8 lj2 r⁻¹⁰).
+  static double dfpair(const Coeff& c, double rsq) {
+    const double r2inv = 1.0 / rsq;
+    const double r6inv = r2inv * r2inv * r2inv;
+    return r6inv * r2inv * r2inv * (-14.0 * c.lj1 * r6inv + 8.0 * c.lj2);
+  }
 };
 
 struct Morse {
@@ -57,6 +63,14 @@ struct Morse {
     fpair = c.morse1 * (dexp * dexp - dexp) / r;
     e = c.d0 * (dexp * dexp - 2.0 * dexp) - c.offset;
   }
+  /// h = (d fpair/dr)/r with fpair = morse1 (d² − d)/r, d = exp(−α(r − r0)), d' = −α d.
+  static double dfpair(const Coeff& c, double rsq) {
+    const double r = std::sqrt(rsq);
+    const double dexp = std::exp(-c.alpha * (r - c.r0));
+    const double g = dexp * dexp - dexp;
+    const double gp = c.alpha * (dexp - 2.0 * dexp * dexp);
+    return c.morse1 * (gp / r - g / rsq) / r;
+  }
 };
 
 struct Zero {
@@ -64,7 +78,15 @@ struct Zero {
     double cutsq = 0;
   };
   static void eval(const Coeff&, double, double& e, double& fpair) { e = fpair = 0.0; }
+  static double dfpair(const Coeff&, double) { return 0.0; }
 };
+
+/// Adds s I + c Y⊗Y to the 3×3 block `k` (row-major): the tangent of t = s(r) Y with
+/// c = (ds/dr)/r.
+inline void add_radial_block(double* k, const double* y, double s, double c) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) k[3 * a + b] += c * y[a] * y[b] + (a == b ? s : 0.0);
+}
 
 enum class Mix { geometric, arithmetic, sixthpower };
 
@@ -344,6 +366,56 @@ struct BondTable {
     return 0.0;
   }
 
+  /// h = (d fbond/dr)/r for bond type bt at squared length rsq (consistent with eval,
+  /// including FENE's clamp of the log argument, where the derivative of the clamped
+  /// term is 0).
+  double dfbond(int bt, double rsq) const {
+    if (bt < 1 || bt >= static_cast<int>(c.size())) return kNaN;
+    const Coeff& b = c[static_cast<std::size_t>(bt)];
+    switch (style) {
+      case Style::harmonic: {
+        // fbond = −2k(r − r0)/r  →  d fbond/dr = −2k r0/r²
+        const double r = std::sqrt(rsq);
+        return r > 0.0 ? -2.0 * b.k * b.r0 / (rsq * r) : 0.0;
+      }
+      case Style::fene: {
+        constexpr double TWO_1_3 = 1.2599210498948732;
+        const double r0sq = b.r0 * b.r0;
+        const double rlogarg = 1.0 - rsq / r0sq;
+        double h = 0.0;
+        // −k/rlogarg, d/dr = −2k r/(r0² rlogarg²)
+        if (rlogarg >= 0.1) h = -2.0 * b.k / (r0sq * rlogarg * rlogarg);
+        if (rsq < TWO_1_3 * b.sigma * b.sigma) {
+          // 48ε σ¹² r⁻¹⁴ − 24ε σ⁶ r⁻⁸  →  h = (−672 ε sr12 + 192 ε sr6)/r⁴
+          const double sr2 = b.sigma * b.sigma / rsq;
+          const double sr6 = sr2 * sr2 * sr2;
+          h += (-672.0 * b.epsilon * sr6 * sr6 + 192.0 * b.epsilon * sr6) / (rsq * rsq);
+        }
+        return h;
+      }
+      case Style::zero:
+      case Style::none:
+        break;
+    }
+    return 0.0;
+  }
+
+  /// K_bb += ½ ∂²E_b/∂Y∂Y = −½ fbond I − ½ h Y⊗Y for every molecular bond (block-diagonal).
+  void add_tangent(const FamilyState& f, double* K) const {
+    if (!active() || !f.bond_type) return;
+    const std::int64_t n = f.size;
+    for (std::int64_t b = 0; b < n; ++b) {
+      const int bt = f.bond_type[b];
+      if (bt <= 0) continue;
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      double fbond;
+      eval(bt, rsq, fbond);
+      add_radial_block(K + static_cast<std::size_t>((b * n + b) * 9), y, -0.5 * fbond,
+                       -0.5 * dfbond(bt, rsq));
+    }
+  }
+
   /// ψ += ½ E_b and t += ½ ∂E_b/∂Y = −½ fbond Y for every molecular bond of the family.
   double add(const FamilyState& f, double* t) const {
     if (!active() || !f.bond_type) return 0.0;
@@ -483,6 +555,31 @@ class PairModel final : public Potential {
     return psi + bonds_.add(f, t);
   }
 
+  /// Analytic: K_jj = ½ factor [φ'/r I + (d(φ'/r)/dr)/r Y⊗Y] (+ bonds), K_jm = 0 for j ≠ m.
+  void force_state_tangent(const FamilyState& f, double* K, double*) const override {
+    const std::int64_t n = f.size;
+    std::fill(K, K + static_cast<std::size_t>(n * n * 9), 0.0);
+    if (types_out_of_range(f, ntypes_, K)) {
+      std::fill(K, K + static_cast<std::size_t>(n * n * 9), kNaN);
+      return;
+    }
+    const int n1 = ntypes_ + 1;
+    const auto* row = table_.v.data() + f.type * n1;
+    for (std::int64_t b = 0; b < n; ++b) {
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      const double factor = f.pair_factor ? f.pair_factor[b] : 1.0;
+      const auto& c = row[f.neighbor_type[b]];
+      if (factor != 0.0 && rsq < c.cutsq) {
+        double e, fpair;
+        Law::eval(c, rsq, e, fpair);
+        add_radial_block(K + static_cast<std::size_t>((b * n + b) * 9), y, -0.5 * factor * fpair,
+                         -0.5 * factor * Law::dfpair(c, rsq));
+      }
+    }
+    bonds_.add_tangent(f, K);
+  }
+
  private:
   std::string style_;
   int ntypes_;
@@ -573,6 +670,102 @@ class EamModel final : public Potential {
       t[3 * b + 2] = s * y[2];
     }
     return psi + bonds_.add(f, t);
+  }
+
+  /// Analytic second derivative of ψ_k = F_k(ρ̄_k) + ½ Σ_j φ(r_j):
+  ///   K_jm = F_k''(ρ̄) g_j g_m e_j⊗e_m
+  ///        + δ_jm [ T_j/r I + (T_j'/r − T_j/r²)/r Y_j⊗Y_j ],
+  /// T_j = F_k' g_j + ½φ'_j, T_j' = F_k' g_j' + ½φ''_j, g_j = ρ'_{type(j)→type(k)}(r_j).
+  /// Second derivatives are those of LAMMPS's cubic spline pieces (d/dr of the derivative
+  /// polynomial (c0 q + c1) q + c2, i.e. (2 c0 q + c1)/Δ), 0 where LAMMPS clamps the argument
+  /// (beyond the last grid point / ρ_max), so K is the exact derivative of force_state.
+  /// Workspace: 3n doubles (g_j e_j).
+  void force_state_tangent(const FamilyState& f, double* K, double* work) const override {
+    const std::int64_t n = f.size;
+    std::fill(K, K + static_cast<std::size_t>(n * n * 9), 0.0);
+    if (types_out_of_range(f, e_.ntypes, K)) {
+      std::fill(K, K + static_cast<std::size_t>(n * n * 9), kNaN);
+      return;
+    }
+    const int n1 = e_.ntypes + 1;
+    const int kt = f.type;
+    auto spline_of = [](const std::vector<std::vector<double>>& sp, int which, int m) {
+      return sp[static_cast<std::size_t>(which)].data() + 7 * m;
+    };
+    // grid argument as LAMMPS computes it; `clamped` when q hit its upper bound
+    auto locate = [](double x, double rdx, int nmax, int& m, bool& clamped) {
+      double q = x * rdx + 1.0;
+      m = std::min(static_cast<int>(q), nmax - 1);
+      q -= m;
+      clamped = q > 1.0;
+      return std::min(q, 1.0);
+    };
+    double rho = 0.0;
+    for (std::int64_t b = 0; b < n; ++b) {
+      if (f.pair_factor && f.pair_factor[b] == 0.0) continue;
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      if (rsq < e_.cutforcesq) {
+        const int jt = f.neighbor_type[b];
+        int m;
+        bool cl;
+        const double p = locate(std::sqrt(rsq), e_.rdr, e_.nr, m, cl);
+        const double* c =
+            spline_of(e_.rhor_spline, e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)], m);
+        rho += ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+      }
+    }
+    double p = rho * e_.rdrho + 1.0;
+    int m = static_cast<int>(p);
+    m = std::max(1, std::min(m, e_.nrho - 1));
+    p -= m;
+    const bool fclamped = p > 1.0;
+    p = std::min(p, 1.0);
+    const double* cf = spline_of(e_.frho_spline, e_.type2frho[static_cast<std::size_t>(kt)], m);
+    const double fp = (cf[0] * p + cf[1]) * p + cf[2];
+    const double fpp = fclamped ? 0.0 : (2.0 * cf[0] * p + cf[1]) * e_.rdrho;
+    double* u = work;  // g_j e_j
+    for (std::int64_t b = 0; b < n; ++b) {
+      const double* y = f.bond + 3 * b;
+      u[3 * b] = u[3 * b + 1] = u[3 * b + 2] = 0.0;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      if (!(rsq < e_.cutforcesq) || (f.pair_factor && f.pair_factor[b] == 0.0)) continue;
+      const int jt = f.neighbor_type[b];
+      const double r = std::sqrt(rsq);
+      int mm;
+      bool cl;
+      const double q = locate(r, e_.rdr, e_.nr, mm, cl);
+      const double* c1 =
+          spline_of(e_.rhor_spline, e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)], mm);
+      const double* c2 =
+          spline_of(e_.z2r_spline, e_.type2z2r[static_cast<std::size_t>(kt * n1 + jt)], mm);
+      const double g = (c1[0] * q + c1[1]) * q + c1[2];
+      const double gp = cl ? 0.0 : (2.0 * c1[0] * q + c1[1]) * e_.rdr;
+      const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
+      const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
+      const double z2pp = cl ? 0.0 : (2.0 * c2[0] * q + c2[1]) * e_.rdr;
+      const double recip = 1.0 / r;
+      const double phi = z2 * recip;
+      const double phip = z2p * recip - phi * recip;
+      const double phipp = (z2pp - 2.0 * phip) * recip;  // (rφ)'' = rφ'' + 2φ'
+      const double T = fp * g + 0.5 * phip;
+      const double Tp = fp * gp + 0.5 * phipp;
+      add_radial_block(K + static_cast<std::size_t>((b * n + b) * 9), y, T * recip,
+                       (Tp * recip - T * recip * recip) * recip);
+      for (int a = 0; a < 3; ++a) u[3 * b + a] = g * y[a] * recip;
+    }
+    if (fpp != 0.0)
+      for (std::int64_t j = 0; j < n; ++j) {
+        const double* uj = u + 3 * j;
+        if (uj[0] == 0.0 && uj[1] == 0.0 && uj[2] == 0.0) continue;
+        for (std::int64_t mb = 0; mb < n; ++mb) {
+          const double* um = u + 3 * mb;
+          double* k = K + static_cast<std::size_t>((j * n + mb) * 9);
+          for (int a = 0; a < 3; ++a)
+            for (int bb = 0; bb < 3; ++bb) k[3 * a + bb] += fpp * uj[a] * um[bb];
+        }
+      }
+    bonds_.add_tangent(f, K);
   }
 
  private:

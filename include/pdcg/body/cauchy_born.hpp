@@ -1,0 +1,118 @@
+/// \file
+/// Cauchy–Born material of a pdcg body (DESIGN.md §2.6, docs/elastic.md).
+///
+/// Under a homogeneous deformation Y_F⟨ξ⟩ = Fξ every bond b of atom k has Y_b = F ξ_b, and the
+/// energy density of the body is
+///   W(F) = (1/V₀) Σ_k ψ_k(F ξ_b, b ∈ k),
+/// with first Piola–Kirchhoff stress and tangent (chain rule through Y_b = F ξ_b):
+///   P_iJ(F)    = ∂W/∂F_iJ   = (1/V₀) Σ_k Σ_b t_b,i ξ_b,J,
+///   A_iJkL(F)  = ∂P_iJ/∂F_kL = (1/V₀) Σ_k Σ_b Σ_c K_bc,ik ξ_b,J ξ_c,L,
+/// where t_b = ∂ψ_k/∂Y_b (Potential::force_state) and K_bc,ik = ∂t_b,i/∂Y_c,k
+/// (Potential::force_state_tangent, analytic for the native styles). A is stored as a 9×9
+/// matrix, row 3i+J, column 3k+L. It has the major symmetry A_iJkL = A_kLiJ.
+///
+/// Strain-based elastic constants (second derivative of W with respect to the Green–Lagrange
+/// strain E = ½(FᵀF − I), the standard definition LAMMPS's ELASTIC example approximates at a
+/// stress-free state): with S = F⁻¹P (second Piola–Kirchhoff stress)
+///   A_iJkL = δ_ik S_JL + F_iM F_kN C_MJNL   ⇒   C_MJNL = F⁻¹_Mi F⁻¹_Nk (A_iJkL − δ_ik S_JL).
+/// At F = I: C = A − δ_ik S_JL (= A when the reference is stress free).
+///
+/// Assumptions: no inner relaxation — every atom follows F (basis atoms of a non-Bravais
+/// lattice are not relaxed; FCC/BCC Bravais lattices, and any lattice whose atoms are all
+/// centres of inversion, are exact). Bodies in dimension 2 lie in the xy plane: the 3×3
+/// formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the plane-strain reduction, and V₀ is the
+/// reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k w_kp ψ_k(Fξ) per point; the body's
+/// W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the delta body's W since Σ_p w_kp = 1).
+/// Rescaled bodies use the ε-wrapped potential on the scaled bonds (W_ε(F) = W(F), §2.4).
+/// Statistical bodies are not supported (InputError).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "pdcg/body/body.hpp"
+
+namespace pdcg::body {
+
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+struct CauchyBornState {
+  double W = 0.0;                               ///< energy density
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();  ///< first Piola–Kirchhoff stress
+  Matrix9d A = Matrix9d::Zero();  ///< ∂P/∂F (row 3i+J, col 3k+L); zero if not asked
+};
+
+class CauchyBorn {
+ public:
+  /// Throws InputError for statistical bodies or bodies without families/volume.
+  explicit CauchyBorn(const Body& body);
+
+  /// W, P and (if `tangent`) A of the whole body at F.
+  CauchyBornState evaluate(const Eigen::Matrix3d& F, bool tangent = true) const;
+  /// Energy density only.
+  double energy(const Eigen::Matrix3d& F) const { return evaluate(F, false).W; }
+  /// Per homogenised point p: W_p, P_p, A_p (InputError if the body is not homogenised).
+  std::vector<CauchyBornState> points(const Eigen::Matrix3d& F, bool tangent = true) const;
+
+  const Body& body() const { return body_; }
+  /// Number of distinct atomic environments (atoms whose families coincide — same type and
+  /// the same bonds ξ to 1e-10·max|ξ|, partner types, special factors — are evaluated once).
+  std::size_t environments() const { return classes_; }
+
+ private:
+  /// Per-atom ψ_k, Σ_b t_b⊗ξ_b (9 per atom), Σ_bc K_bc ξ_b ξ_c (81 per atom, if tangent).
+  void per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
+                std::vector<double>& p, std::vector<double>& a) const;
+  const Body& body_;
+  std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class
+  std::vector<std::int32_t> multiplicity_;
+  std::size_t classes_ = 0;
+};
+
+/// Strain-based elastic constants C_MJNL = ∂²W/∂E_MJ∂E_NL from (F, P, A) (formula above),
+/// in Voigt order 11, 22, 33, 23, 13, 12.
+Matrix6d voigt_elastic_constants(const Eigen::Matrix3d& F, const CauchyBornState& state);
+
+/// Voigt and Reuss averages of bulk and shear modulus (3D), or the 2D (areal, in-plane) ones
+/// for dimension 2: K = (C11+C22+2C12)/4, G = (C11+C22−2C12+4C66)/8 (Voigt).
+struct Moduli {
+  double bulk_voigt = 0, shear_voigt = 0, bulk_reuss = 0, shear_reuss = 0;
+};
+Moduli moduli(const Matrix6d& C, int dimension);
+
+/// Neo-Hookean Ψ = μ/2(Ī₁ − 3) + K/8(J − 1/J)², Ī₁ = J^(−2/3) tr(FᵀF), fitted by linear
+/// least squares to W(F) − W(I) − S₀:E(F) of the Cauchy–Born material, E = ½(FᵀF − I).
+/// S₀ = P(I) is the stress of the reference lattice (nonzero when the lattice constant is not
+/// the potential's zero-stress one, e.g. because of the cutoff); the neo-Hookean law is stress
+/// free at F = I, so the fit describes the energy beyond the work of that residual stress
+/// (an objective term: S₀:E depends on FᵀF only).
+struct NeoHookeanFit {
+  double mu = 0, bulk = 0;
+  Eigen::Matrix3d reference_stress = Eigen::Matrix3d::Zero();  ///< S₀ = P(I)
+  double rms_error = 0;       ///< RMS of the residual W_fit − W_CB over the set
+  double relative_error = 0;  ///< rms_error / RMS of W_CB − W(I)
+  int samples = 0;
+};
+/// Deformation set: uniaxial stretch λ and 1/λ... (along x, y[, z]), equi-biaxial stretch and
+/// simple shear γ, for `steps` values each up to `max_stretch` (λ ∈ [1/max, max], γ ≤ max − 1);
+/// plane strain (F₃₃ = 1, only in-plane deformations) in dimension 2.
+std::vector<Eigen::Matrix3d> fit_deformations(int dimension, double max_stretch, int steps);
+NeoHookeanFit fit_neo_hookean(const CauchyBorn& cb, const std::vector<Eigen::Matrix3d>& set);
+
+/// Critical bond stretch from a pair potential (types i, j): the inflection point r_infl of
+/// φ (φ'' = 0 beyond the minimum r₀, where the bond's axial stiffness vanishes), returned as
+/// r_infl / r₀ (LJ: (26/7)^(1/6)/2^(1/6) = (13/7)^(1/6) ≈ 1.1087; Morse: 1 + ln2/(α r₀)).
+/// Found by bisection on ∂t/∂r from force_state_tangent of a one-bond family. Throws
+/// InputError for a potential that is not pairwise or has no minimum within its cutoff.
+double pair_inflection_stretch(const atomistic::Potential& potential, int type_i, int type_j);
+
+/// Material-level alternative valid for any potential: the uniaxial (lateral F = 1) stretch λ_c
+/// of the Cauchy–Born material along unit `direction` at which P·n·n peaks (loss of strong
+/// ellipticity in that direction); scanned up to `max_stretch` with `steps` points then
+/// refined by bisection on the tangent. Returns 0 if no peak in range.
+double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direction,
+                             double max_stretch = 1.6, int steps = 60);
+
+}  // namespace pdcg::body

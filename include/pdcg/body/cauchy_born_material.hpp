@@ -1,0 +1,88 @@
+/// \file
+/// The Cauchy–Born material of a pdcg model file behind the BA solver's material interface
+/// (solver::Material, include/pdcg/solver/material.hpp): Ψ(F) = W(F) of the body, P and
+/// A = ∂P/∂F from the analytic force-state tangents (cauchy_born.hpp, docs/elastic.md).
+///
+/// Header-only on purpose: the body module comes before the solver module and does not link
+/// it; solver::Material is an interface with inline members only, so a consumer that links
+/// both (the scene) can use this adapter without a dependency cycle.
+///
+/// Kinematics: a body of dimension 3 is a 3D material; a body of dimension 2 (a film in the
+/// xy plane) is a plane-strain material — the in-plane block of F is used with F₃₃ = 1 and only
+/// the in-plane blocks of P and A are filled (the convention of solver::Material).
+/// Limits: one material for the whole body (body-level W); the per-point form W_p of a
+/// homogenised body is CauchyBorn::points. Each evaluation costs one family per distinct atomic
+/// environment (one for a perfect Bravais crystal).
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+
+#include "pdcg/body/cauchy_born.hpp"
+#include "pdcg/body/model_file.hpp"
+#include "pdcg/solver/material.hpp"
+
+namespace pdcg::body {
+
+class CauchyBornMaterial final : public solver::Material {
+ public:
+  explicit CauchyBornMaterial(std::shared_ptr<const Body> body, std::string source = {})
+      : body_(std::move(body)),
+        cb_(std::make_shared<CauchyBorn>(*body_)),
+        source_(std::move(source)) {}
+  /// Reads a pdcg-body file (`material: {model: cauchy-born, file: res.h5}`).
+  static std::unique_ptr<CauchyBornMaterial> from_file(const std::string& path) {
+    return std::make_unique<CauchyBornMaterial>(std::make_shared<const Body>(read_body(path)),
+                                                path);
+  }
+
+  int dimension() const override { return body_->dimension == 2 ? 2 : 3; }
+  bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P,
+                solver::Tangent* A) const override {
+    const solver::Mat3 Ff = full_deformation_gradient(F);
+    if (!(Ff.determinant() > 0.0)) return false;
+    const CauchyBornState s = cb_->evaluate(Ff, A != nullptr);
+    if (!std::isfinite(s.W)) return false;
+    if (psi) *psi = s.W;
+    if (P) {
+      *P = s.P;
+      if (dimension() == 2) {
+        P->row(2).setZero();
+        P->col(2).setZero();
+      }
+    }
+    if (A) {
+      *A = s.A;
+      if (dimension() == 2)
+        for (int r = 0; r < 9; ++r)
+          for (int c = 0; c < 9; ++c)
+            if (r / 3 == 2 || r % 3 == 2 || c / 3 == 2 || c % 3 == 2) (*A)(r, c) = 0.0;
+    }
+    return true;
+  }
+  solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {
+    if (dimension() == 3) return F;
+    solver::Mat3 G = solver::Mat3::Identity();
+    G.topLeftCorner<2, 2>() = F.topLeftCorner<2, 2>();
+    return G;
+  }
+  std::string name() const override {
+    std::string n = "cauchy-born (";  // append, not "literal" + string (GCC 12 -Wrestrict)
+    n.append(dimension() == 2 ? "plane strain" : "3d");
+    if (!source_.empty()) n.append(", ").append(source_);
+    return n.append(")");
+  }
+  std::unique_ptr<solver::Material> clone() const override {
+    return std::make_unique<CauchyBornMaterial>(*this);
+  }
+  const CauchyBorn& cauchy_born() const { return *cb_; }
+
+ private:
+  std::shared_ptr<const Body> body_;
+  std::shared_ptr<const CauchyBorn>
+      cb_;  // holds a reference to *body_ (shared, so clones stay valid)
+  std::string source_;
+};
+
+}  // namespace pdcg::body

@@ -1,0 +1,431 @@
+#include "pdcg/body/cauchy_born.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include "pdcg/core/error.hpp"
+
+namespace pdcg::body {
+
+CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
+  if (body.statistics)
+    throw InputError("Cauchy–Born material of a statistical body is not supported")
+        .key("kind")
+        .value("statistical")
+        .expected("a delta, homogenised or rescaled body")
+        .fix(
+            "build the Cauchy–Born material from the delta body (before `pdcg atoms2pd "
+            "--statistics`)");
+  if (!body.potential) throw InputError("body has no potential").fix("rebuild the body file");
+  if (body.families.points() != body.size() || body.size() == 0)
+    throw InputError("body has no families").fix("rebuild the body with `pdcg atoms2pd`");
+  if (!(body.reference_volume() > 0.0))
+    throw InputError("body has zero reference volume")
+        .key("box")
+        .expected("a box whose first `dimension` edges span a positive measure")
+        .fix("give the configuration a box (periodic for a perfect crystal)");
+  // Equivalence classes of atoms: same type and the same multiset of (ξ rounded to
+  // 1e-10·horizon, partner type, pair factor, bond type). A perfect Bravais crystal has one
+  // class, so W, P, A cost one family instead of N.
+  const auto& fam = body.families;
+  double scale = 0.0;
+  for (double v : fam.xi) scale = std::max(scale, std::abs(v));
+  const double tol = 1e-10 * std::max(scale, 1e-300);
+  using Key = std::vector<std::tuple<long long, long long, long long, int, double, int>>;
+  std::map<std::pair<int, Key>, std::int32_t> classes;
+  representative_.resize(body.size());
+  multiplicity_.assign(body.size(), 0);
+  for (std::size_t k = 0; k < body.size(); ++k) {
+    Key key;
+    for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
+      const auto bb = static_cast<std::size_t>(b);
+      key.emplace_back(std::llround(fam.xi[3 * bb] / tol), std::llround(fam.xi[3 * bb + 1] / tol),
+                       std::llround(fam.xi[3 * bb + 2] / tol),
+                       body.type[static_cast<std::size_t>(fam.neighbor[bb])],
+                       fam.pair_factor.empty() ? 1.0 : fam.pair_factor[bb],
+                       fam.bond_type.empty() ? 0 : fam.bond_type[bb]);
+    }
+    std::sort(key.begin(), key.end());
+    const auto [it, fresh] =
+        classes.emplace(std::make_pair(body.type[k], std::move(key)), static_cast<std::int32_t>(k));
+    representative_[k] = it->second;
+    ++multiplicity_[static_cast<std::size_t>(it->second)];
+  }
+  classes_ = classes.size();
+}
+
+void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
+                          std::vector<double>& p, std::vector<double>& a) const {
+  const auto& fam = body_.families;
+  const auto& pot = *body_.potential;
+  const auto N = static_cast<std::int64_t>(body_.size());
+  psi.assign(static_cast<std::size_t>(N), 0.0);
+  p.assign(static_cast<std::size_t>(9 * N), 0.0);
+  a.assign(tangent ? static_cast<std::size_t>(81 * N) : 0, 0.0);
+  std::int64_t nmax = 0;
+  for (std::int64_t k = 0; k < N; ++k)
+    nmax = std::max(nmax, fam.offset[static_cast<std::size_t>(k + 1)] -
+                              fam.offset[static_cast<std::size_t>(k)]);
+#pragma omp parallel
+  {
+    // per-thread work arrays, sized once for the largest family
+    std::vector<double> Y(static_cast<std::size_t>(3 * nmax)),
+        t(static_cast<std::size_t>(3 * nmax));
+    std::vector<int> nt(static_cast<std::size_t>(nmax));
+    std::vector<double> K, work, M;
+    if (tangent) {
+      K.resize(static_cast<std::size_t>(9 * nmax * nmax));
+      work.resize(atomistic::Potential::tangent_workspace(nmax));
+      M.resize(static_cast<std::size_t>(27 * nmax));
+    }
+#pragma omp for schedule(dynamic, 16)
+    for (std::int64_t k = 0; k < N; ++k) {
+      if (representative_[static_cast<std::size_t>(k)] != k) continue;
+      const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
+      const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
+      const double* xi = fam.xi.data() + 3 * b0;
+      for (std::int64_t b = 0; b < n; ++b) {
+        const auto bb = static_cast<std::size_t>(b);
+        nt[bb] =
+            body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
+        for (int i = 0; i < 3; ++i)
+          Y[3 * bb + static_cast<std::size_t>(i)] =
+              F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2];
+      }
+      atomistic::FamilyState f;
+      f.type = body_.type[static_cast<std::size_t>(k)];
+      f.size = n;
+      f.neighbor_type = nt.data();
+      f.bond = Y.data();
+      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      psi[static_cast<std::size_t>(k)] = pot.force_state(f, t.data());
+      double* pk = p.data() + 9 * k;
+      for (std::int64_t b = 0; b < n; ++b)
+        for (int i = 0; i < 3; ++i)
+          for (int J = 0; J < 3; ++J)
+            pk[3 * i + J] += t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
+      if (!tangent) continue;
+      pot.force_state_tangent(f, K.data(), work.data());
+      // M_b,ikL = Σ_c K_bc,ik ξ_c,L  (n²·27), then A_iJkL += Σ_b ξ_b,J M_b,ikL  (n·81)
+      std::fill(M.begin(), M.begin() + 27 * n, 0.0);
+      for (std::int64_t b = 0; b < n; ++b) {
+        double* mb = M.data() + 27 * b;
+        for (std::int64_t c = 0; c < n; ++c) {
+          const double* kb = K.data() + 9 * (b * n + c);
+          if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 &&
+              kb[2] == 0.0 && kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
+            continue;  // pair potentials: only diagonal blocks
+          const double* xc = xi + 3 * c;
+          for (int ik = 0; ik < 9; ++ik)
+            for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
+        }
+      }
+      double* ak = a.data() + 81 * k;
+      for (std::int64_t b = 0; b < n; ++b) {
+        const double* mb = M.data() + 27 * b;
+        const double* xb = xi + 3 * b;
+        for (int i = 0; i < 3; ++i)
+          for (int J = 0; J < 3; ++J)
+            for (int kk = 0; kk < 3; ++kk)
+              for (int L = 0; L < 3; ++L)
+                ak[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * mb[3 * (3 * i + kk) + L];
+      }
+    }
+  }
+  // copy the representatives' results to the other members of their class
+  for (std::int64_t k = 0; k < N; ++k) {
+    const auto r = static_cast<std::size_t>(representative_[static_cast<std::size_t>(k)]);
+    const auto kk = static_cast<std::size_t>(k);
+    if (r == kk) continue;
+    psi[kk] = psi[r];
+    std::copy(p.begin() + static_cast<std::ptrdiff_t>(9 * r),
+              p.begin() + static_cast<std::ptrdiff_t>(9 * r + 9),
+              p.begin() + static_cast<std::ptrdiff_t>(9 * kk));
+    if (tangent)
+      std::copy(a.begin() + static_cast<std::ptrdiff_t>(81 * r),
+                a.begin() + static_cast<std::ptrdiff_t>(81 * r + 81),
+                a.begin() + static_cast<std::ptrdiff_t>(81 * kk));
+  }
+}
+
+CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) const {
+  std::vector<double> psi, p, a;
+  per_atom(F, tangent, psi, p, a);
+  CauchyBornState s;
+  const std::size_t N = body_.size();
+  // Homogenised bodies: W = Σ_p E_p / V₀ = Σ_k (Σ_p w_kp) ψ_k / V₀ (the point energies add
+  // up to the body's energy; V₀ is the body's volume, not Σ_p V_p, which differs from it on a
+  // grid incommensurate with a periodic box).
+  std::vector<double> wk(N, 1.0);
+  const double V = body_.reference_volume();
+  if (body_.homogenisation) {
+    const auto& h = *body_.homogenisation;
+    std::fill(wk.begin(), wk.end(), 0.0);
+    for (std::size_t q = 0; q < h.size(); ++q)
+      for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
+        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
+            h.weight[static_cast<std::size_t>(c)];
+  }
+  for (std::size_t k = 0; k < N; ++k) {
+    s.W += wk[k] * psi[k];
+    for (int i = 0; i < 3; ++i)
+      for (int J = 0; J < 3; ++J)
+        s.P(i, J) += wk[k] * p[9 * k + static_cast<std::size_t>(3 * i + J)];
+    if (tangent)
+      for (int r = 0; r < 9; ++r)
+        for (int c = 0; c < 9; ++c)
+          s.A(r, c) += wk[k] * a[81 * k + static_cast<std::size_t>(9 * r + c)];
+  }
+  s.W /= V;
+  s.P /= V;
+  s.A /= V;
+  return s;
+}
+
+std::vector<CauchyBornState> CauchyBorn::points(const Eigen::Matrix3d& F, bool tangent) const {
+  if (!body_.homogenisation)
+    throw InputError("per-point Cauchy–Born material needs a homogenised body")
+        .key("kind")
+        .value(std::string(to_string(body_.kind)))
+        .fix("run `pdcg homogenize` first, or use the body-level material");
+  std::vector<double> psi, p, a;
+  per_atom(F, tangent, psi, p, a);
+  const auto& h = *body_.homogenisation;
+  std::vector<CauchyBornState> out(h.size());
+  for (std::size_t q = 0; q < h.size(); ++q) {
+    auto& s = out[q];
+    for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c) {
+      const auto k = static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)]);
+      const double w = h.weight[static_cast<std::size_t>(c)];
+      s.W += w * psi[k];
+      for (int r = 0; r < 9; ++r) s.P(r / 3, r % 3) += w * p[9 * k + static_cast<std::size_t>(r)];
+      if (tangent)
+        for (int r = 0; r < 9; ++r)
+          for (int cc = 0; cc < 9; ++cc)
+            s.A(r, cc) += w * a[81 * k + static_cast<std::size_t>(9 * r + cc)];
+    }
+    const double inv = 1.0 / h.volume[q];
+    s.W *= inv;
+    s.P *= inv;
+    s.A *= inv;
+  }
+  return out;
+}
+
+Matrix6d voigt_elastic_constants(const Eigen::Matrix3d& F, const CauchyBornState& st) {
+  const Eigen::Matrix3d Fi = F.inverse();
+  const Eigen::Matrix3d S = Fi * st.P;
+  // B_iJkL = A_iJkL − δ_ik S_JL; C_MJNL = F⁻¹_Mi F⁻¹_Nk B_iJkL
+  double C[3][3][3][3] = {};
+  for (int M = 0; M < 3; ++M)
+    for (int J = 0; J < 3; ++J)
+      for (int N = 0; N < 3; ++N)
+        for (int L = 0; L < 3; ++L) {
+          double v = 0.0;
+          for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) {
+              const double B = st.A(3 * i + J, 3 * k + L) - (i == k ? S(J, L) : 0.0);
+              v += Fi(M, i) * Fi(N, k) * B;
+            }
+          C[M][J][N][L] = v;
+        }
+  constexpr int vi[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}};
+  Matrix6d out;
+  for (int I = 0; I < 6; ++I)
+    for (int K = 0; K < 6; ++K) {
+      // symmetrised over the minor pairs (exact symmetry of ∂²W/∂E∂E)
+      const int a = vi[I][0], b = vi[I][1], c = vi[K][0], d = vi[K][1];
+      out(I, K) = 0.25 * (C[a][b][c][d] + C[b][a][c][d] + C[a][b][d][c] + C[b][a][d][c]);
+    }
+  return out;
+}
+
+Moduli moduli(const Matrix6d& C, int dimension) {
+  Moduli m;
+  if (dimension == 2) {
+    Eigen::Matrix3d c2;
+    const int id[3] = {0, 1, 5};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) c2(i, j) = C(id[i], id[j]);
+    m.bulk_voigt = (c2(0, 0) + c2(1, 1) + 2 * c2(0, 1)) / 4;
+    m.shear_voigt = (c2(0, 0) + c2(1, 1) - 2 * c2(0, 1) + 4 * c2(2, 2)) / 8;
+    const Eigen::Matrix3d s = c2.inverse();
+    m.bulk_reuss = 1.0 / (s(0, 0) + s(1, 1) + 2 * s(0, 1));
+    m.shear_reuss = 2.0 / (s(0, 0) + s(1, 1) - 2 * s(0, 1) + s(2, 2));
+    return m;
+  }
+  m.bulk_voigt = (C(0, 0) + C(1, 1) + C(2, 2) + 2 * (C(0, 1) + C(0, 2) + C(1, 2))) / 9;
+  m.shear_voigt = (C(0, 0) + C(1, 1) + C(2, 2) - (C(0, 1) + C(0, 2) + C(1, 2)) +
+                   3 * (C(3, 3) + C(4, 4) + C(5, 5))) /
+                  15;
+  const Matrix6d s = C.inverse();
+  m.bulk_reuss = 1.0 / (s(0, 0) + s(1, 1) + s(2, 2) + 2 * (s(0, 1) + s(0, 2) + s(1, 2)));
+  m.shear_reuss = 15.0 / (4 * (s(0, 0) + s(1, 1) + s(2, 2)) - 4 * (s(0, 1) + s(0, 2) + s(1, 2)) +
+                          3 * (s(3, 3) + s(4, 4) + s(5, 5)));
+  return m;
+}
+
+std::vector<Eigen::Matrix3d> fit_deformations(int dimension, double max_stretch, int steps) {
+  if (!(max_stretch > 1.0) || steps < 1)
+    throw InputError("fit range invalid")
+        .key("max-stretch")
+        .value(std::to_string(max_stretch))
+        .expected("a stretch > 1 and at least one step");
+  const int nd = dimension == 2 ? 2 : 3;
+  std::vector<Eigen::Matrix3d> set;
+  for (int s = 1; s <= steps; ++s) {
+    const double lam = 1.0 + (max_stretch - 1.0) * s / steps;
+    for (double l : {lam, 1.0 / lam}) {
+      for (int d = 0; d < nd; ++d) {  // uniaxial (lateral F = 1)
+        Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+        F(d, d) = l;
+        set.push_back(F);
+      }
+      Eigen::Matrix3d B = Eigen::Matrix3d::Identity();  // equi-biaxial in xy
+      B(0, 0) = B(1, 1) = l;
+      set.push_back(B);
+    }
+    const double g = lam - 1.0;  // simple shear
+    for (int d = 0; d < nd; ++d)
+      for (int e = 0; e < nd; ++e)
+        if (d != e) {
+          Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+          F(d, e) = g;
+          set.push_back(F);
+        }
+  }
+  return set;
+}
+
+NeoHookeanFit fit_neo_hookean(const CauchyBorn& cb, const std::vector<Eigen::Matrix3d>& set) {
+  const CauchyBornState s0 = cb.evaluate(Eigen::Matrix3d::Identity(), false);
+  const double W0 = s0.W;
+  const Eigen::Matrix3d S0 = s0.P;  // at F = I the second PK stress equals P
+  Eigen::MatrixXd G(static_cast<Eigen::Index>(set.size()), 2);
+  Eigen::VectorXd w(static_cast<Eigen::Index>(set.size()));
+  for (std::size_t s = 0; s < set.size(); ++s) {
+    const Eigen::Matrix3d& F = set[s];
+    const double J = F.determinant();
+    const double I1b = std::pow(J, -2.0 / 3.0) * (F.transpose() * F).trace();
+    const auto r = static_cast<Eigen::Index>(s);
+    G(r, 0) = 0.5 * (I1b - 3.0);
+    G(r, 1) = 0.125 * (J - 1.0 / J) * (J - 1.0 / J);
+    const Eigen::Matrix3d E = 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
+    w(r) = cb.energy(F) - W0 - (S0.array() * E.array()).sum();
+  }
+  const Eigen::Vector2d c = G.colPivHouseholderQr().solve(w);
+  NeoHookeanFit fit;
+  fit.mu = c(0);
+  fit.bulk = c(1);
+  fit.samples = static_cast<int>(set.size());
+  fit.reference_stress = S0;
+  const double n = static_cast<double>(set.size());
+  fit.rms_error = std::sqrt((G * c - w).squaredNorm() / n);
+  fit.relative_error = fit.rms_error / std::sqrt(w.squaredNorm() / n);
+  return fit;
+}
+
+namespace {
+/// Axial quantities of a one-bond family of length r along x: t_x = ½φ'(r), K_xx = ½φ''(r).
+void one_bond(const atomistic::Potential& pot, int ti, int tj, double r, double& tx, double& kxx) {
+  const double y[3] = {r, 0.0, 0.0};
+  double t[3], K[9], work[9];
+  atomistic::FamilyState f;
+  f.type = ti;
+  f.size = 1;
+  f.neighbor_type = &tj;
+  f.bond = y;
+  pot.force_state(f, t);
+  pot.force_state_tangent(f, K, work);
+  tx = t[0];
+  kxx = K[0];
+}
+}  // namespace
+
+double pair_inflection_stretch(const atomistic::Potential& pot, int ti, int tj) {
+  if (!pot.pairwise())
+    throw InputError("bond inflection rule needs a pair potential")
+        .key("pair_style")
+        .value(pot.style())
+        .expected("lj/cut, morse (bond-based)")
+        .fix("use uniaxial_peak_stretch (Cauchy–Born peak stress) for many-body potentials");
+  const double rc = pot.cutoff();
+  const int n = 4000;
+  double r0 = 0.0, rinf = 0.0, tprev = 0.0, kprev = 0.0;
+  for (int s = 1; s <= n; ++s) {
+    const double r = rc * s / n;
+    double tx, kxx;
+    one_bond(pot, ti, tj, r, tx, kxx);
+    if (s > 1 && r0 == 0.0 && tprev < 0.0 && tx >= 0.0) {
+      // minimum: t changes sign; refine by bisection
+      double lo = r - rc / n, hi = r;
+      for (int it = 0; it < 100; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        double tm, km;
+        one_bond(pot, ti, tj, mid, tm, km);
+        (tm < 0.0 ? lo : hi) = mid;
+      }
+      r0 = 0.5 * (lo + hi);
+    } else if (r0 > 0.0 && kprev > 0.0 && kxx <= 0.0) {
+      double lo = r - rc / n, hi = r;
+      for (int it = 0; it < 100; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        double tm, km;
+        one_bond(pot, ti, tj, mid, tm, km);
+        (km > 0.0 ? lo : hi) = mid;
+      }
+      rinf = 0.5 * (lo + hi);
+      break;
+    }
+    tprev = tx;
+    kprev = kxx;
+  }
+  if (r0 == 0.0 || rinf == 0.0)
+    throw InputError("pair energy has no minimum and inflection within the cutoff")
+        .key("types")
+        .value(std::to_string(ti) + " " + std::to_string(tj))
+        .expected("a bonding pair interaction (φ with a minimum inside the cutoff)");
+  return rinf / r0;
+}
+
+double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direction,
+                             double max_stretch, int steps) {
+  const Eigen::Vector3d nvec = direction.normalized();
+  auto F_of = [&](double lam) {
+    return Eigen::Matrix3d(Eigen::Matrix3d::Identity() + (lam - 1.0) * nvec * nvec.transpose());
+  };
+  // dP_nn/dλ = n_i n_J A_iJkL n_k n_L
+  auto slope = [&](double lam) {
+    const CauchyBornState s = cb.evaluate(F_of(lam), true);
+    double v = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int J = 0; J < 3; ++J)
+        for (int k = 0; k < 3; ++k)
+          for (int L = 0; L < 3; ++L)
+            v += nvec[i] * nvec[J] * nvec[k] * nvec[L] * s.A(3 * i + J, 3 * k + L);
+    return v;
+  };
+  double prev = 1.0, sprev = slope(1.0);
+  for (int s = 1; s <= steps; ++s) {
+    const double lam = 1.0 + (max_stretch - 1.0) * s / steps;
+    const double sl = slope(lam);
+    if (sprev > 0.0 && sl <= 0.0) {
+      double lo = prev, hi = lam;
+      for (int it = 0; it < 40; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (slope(mid) > 0.0 ? lo : hi) = mid;
+      }
+      return 0.5 * (lo + hi);
+    }
+    prev = lam;
+    sprev = sl;
+  }
+  return 0.0;
+}
+
+}  // namespace pdcg::body

@@ -1,0 +1,150 @@
+/// `pdcg elastic BODY.h5 [--F "F11 … F33"] [--json] [--fit MAX_STRETCH] [--critical]`:
+/// Cauchy–Born elastic constants of a model file (docs/elastic.md): the Voigt matrix
+/// C_IJ = ∂²W/∂E_I∂E_J (Green–Lagrange strain, second Piola–Kirchhoff stress) at the pre-strain F,
+/// Voigt/Reuss bulk and shear moduli, optionally a neo-Hookean fit and critical stretches.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <string>
+
+#include "body_cli_util.hpp"
+#include "command.hpp"
+#include "pdcg/body/cauchy_born.hpp"
+#include "pdcg/body/model_file.hpp"
+
+namespace {
+
+struct Options {
+  std::string body, F = "1 0 0 0 1 0 0 0 1";
+  bool json = false, critical = false;
+  double fit = 0.0;
+  int fit_steps = 4;
+};
+
+std::string matrix_json(const Eigen::MatrixXd& m) {
+  std::string s = "[";
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    s.append(r ? ", [" : "[");
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      s.append(fmt::format("{}{:.17g}", c ? ", " : "", m(r, c)));
+    s.append("]");
+  }
+  return s.append("]");
+}
+
+int run(const Options& o) {
+  using namespace pdcg;
+  const auto v = cli::body_util::numbers(o.F, 9, "--F");
+  Eigen::Matrix3d F;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) F(r, c) = v[static_cast<std::size_t>(3 * r + c)];
+  if (!(F.determinant() > 0.0))
+    throw InputError("deformation gradient with det F ≤ 0")
+        .source("--F")
+        .value(fmt::format("{} (det F = {:.6g})", o.F, F.determinant()))
+        .expected("det F > 0 (row-major F11 F12 F13 F21 … F33)")
+        .fix("the identity is \"1 0 0 0 1 0 0 0 1\"");
+  if (o.fit != 0.0 && !(o.fit > 1.0))
+    throw InputError("--fit needs the largest stretch of the fit set")
+        .source("--fit")
+        .value(fmt::format("{}", o.fit))
+        .expected("a stretch > 1, e.g. 1.1");
+  const body::Body b = body::read_body(o.body);
+  if (b.dimension == 2 &&
+      (F(0, 2) != 0.0 || F(1, 2) != 0.0 || F(2, 0) != 0.0 || F(2, 1) != 0.0 || F(2, 2) != 1.0))
+    throw InputError("2D body: F must be a plane-strain deformation")
+        .source("--F")
+        .value(o.F)
+        .expected(
+            "F13 = F23 = F31 = F32 = 0 and F33 = 1 (bodies of dimension 2 lie in the xy plane)");
+  const body::CauchyBorn cb(b);
+  const body::CauchyBornState st = cb.evaluate(F);
+  const body::Matrix6d C = body::voigt_elastic_constants(F, st);
+  const body::Moduli mod = body::moduli(C, b.dimension);
+  const Eigen::Matrix3d S = F.inverse() * st.P;
+  std::optional<body::NeoHookeanFit> fit;
+  if (o.fit > 1.0)
+    fit = body::fit_neo_hookean(cb, body::fit_deformations(b.dimension, o.fit, o.fit_steps));
+  double infl = 0.0, peak = 0.0;
+  if (o.critical) {
+    if (b.base_potential && b.base_potential->pairwise() && b.base_potential->ntypes() >= 1)
+      infl = body::pair_inflection_stretch(*b.base_potential, 1, 1);
+    peak = body::uniaxial_peak_stretch(cb, Eigen::Vector3d(1, 0, 0));
+  }
+  const std::string u = std::string(to_string(b.units));
+  if (o.json) {
+    std::string out = fmt::format(
+        "{{\"body\": \"{}\", \"kind\": \"{}\", \"dimension\": {}, \"units\": \"{}\", \"F\": {}, "
+        "\"energy_density\": {:.17g}, \"P\": {}, \"S\": {}, \"C_voigt\": {}, \"voigt_order\": "
+        "[\"11\", \"22\", \"33\", \"23\", \"13\", \"12\"], \"bulk_voigt\": {:.17g}, "
+        "\"shear_voigt\": "
+        "{:.17g}, \"bulk_reuss\": {:.17g}, \"shear_reuss\": {:.17g}",
+        o.body, to_string(b.kind), b.dimension, u, matrix_json(F), st.W, matrix_json(st.P),
+        matrix_json(S), matrix_json(C), mod.bulk_voigt, mod.shear_voigt, mod.bulk_reuss,
+        mod.shear_reuss);
+    if (fit)
+      out.append(fmt::format(
+          ", \"neo_hookean\": {{\"mu\": {:.17g}, \"bulk\": {:.17g}, \"rms_error\": {:.17g}, "
+          "\"relative_error\": {:.17g}, \"samples\": {}, \"max_stretch\": {:.17g}}}",
+          fit->mu, fit->bulk, fit->rms_error, fit->relative_error, fit->samples, o.fit));
+    if (o.critical)
+      out.append(fmt::format(
+          ", \"bond_inflection_stretch\": {:.17g}, \"uniaxial_peak_stretch_x\": {:.17g}", infl,
+          peak));
+    out.append("}\n");
+    std::fputs(out.c_str(), stdout);
+    return 0;
+  }
+  std::printf("%s: %s body, dimension %d, units %s\n", o.body.c_str(),
+              std::string(to_string(b.kind)).c_str(), b.dimension, u.c_str());
+  std::printf("W(F) = %.10g (energy/volume)\n", st.W);
+  std::printf("second Piola–Kirchhoff stress S = F⁻¹P:\n");
+  for (int r = 0; r < 3; ++r) std::printf("  %14.7g %14.7g %14.7g\n", S(r, 0), S(r, 1), S(r, 2));
+  std::printf("C_IJ = ∂²W/∂E_I∂E_J (Voigt 11 22 33 23 13 12; energy/volume):\n");
+  for (int r = 0; r < 6; ++r) {
+    std::printf(" ");
+    for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c));
+    std::printf("\n");
+  }
+  std::printf("%sbulk modulus: Voigt %.6g, Reuss %.6g; shear modulus: Voigt %.6g, Reuss %.6g\n",
+              b.dimension == 2 ? "2D (in-plane) " : "", mod.bulk_voigt, mod.bulk_reuss,
+              mod.shear_voigt, mod.shear_reuss);
+  if (fit)
+    std::printf(
+        "neo-Hookean fit (%d deformations, stretch ≤ %g): μ = %.6g, K = %.6g, RMS error %.3g "
+        "(%.2f%% of RMS W)\n",
+        fit->samples, o.fit, fit->mu, fit->bulk, fit->rms_error, 100 * fit->relative_error);
+  if (o.critical) {
+    if (infl > 0) std::printf("bond inflection stretch (types 1-1) r_infl/r0 = %.6f\n", infl);
+    if (peak > 0)
+      std::printf("uniaxial-strain peak stretch along x λ_c = %.6f\n", peak);
+    else
+      std::printf("uniaxial-strain peak stretch along x: no peak up to λ = 1.6\n");
+  }
+  return 0;
+}
+
+pdcg::cli::Registration reg(140, [](CLI::App& app) -> pdcg::cli::Runner {
+  auto* sub =
+      app.add_subcommand("elastic", "Cauchy–Born elastic constants of a model at a pre-strain F");
+  auto o = std::make_shared<Options>();
+  sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
+  sub->add_option("--F", o->F,
+                  "Pre-strain deformation gradient, 9 numbers row-major (default identity)");
+  sub->add_flag("--json", o->json, "JSON output");
+  sub->add_option("--fit", o->fit,
+                  "Neo-Hookean fit over uniaxial/biaxial/shear deformations up to this stretch");
+  sub->add_option("--fit-steps", o->fit_steps,
+                  "Stretch values per deformation mode in the fit (default 4)");
+  sub->add_flag(
+      "--critical", o->critical,
+      "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");
+  sub->footer(
+      "C is ∂²W/∂E∂E (Green–Lagrange strain E; at a stress-free F = I the usual elastic "
+      "constants).\n"
+      "Example:\n  pdcg elastic cu.h5 --json\n  pdcg elastic lj.h5 --F \"1.01 0 0 0 1 0 0 0 1\" "
+      "--fit 1.1 --critical");
+  return [o] { return run(*o); };
+});
+
+}  // namespace
