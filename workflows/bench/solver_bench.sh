@@ -25,7 +25,7 @@ run() {
   line=$("$BIN" "$@")
   echo "$line"
   # key=value pairs → CSV
-  python3 - "$line" >>"$CSV" <<'PY'
+  /usr/bin/python3 - "$line" >>"$CSV" <<'PY'
 import sys
 kv = dict(p.split("=") for p in sys.argv[1].split())
 print(",".join(kv[k] for k in ["dim", "n", "points", "linear", "newton_iterations",
@@ -36,7 +36,7 @@ for n in ${SIZES_2D:-100 200 400}; do run 2 "$n" umfpack; done
 SIZES=${SIZES_3D:-10 14 18 22}
 [[ "${BENCH_3D_LARGE:-0}" == 1 ]] && SIZES="$SIZES 37"
 for n in $SIZES; do run 3 "$n" "${LINEAR_3D:-bicgstab}"; done
-python3 - "$CSV" <<'PY'
+/usr/bin/python3 - "$CSV" <<'PY'
 import sys, numpy as np
 rows = [l.strip().split(",") for l in open(sys.argv[1]) if l[0].isdigit()]
 for dim in ("2", "3"):
