@@ -1,0 +1,81 @@
+// bench_solver_newton: residual+tangent assembly time and linear-solve time per Newton
+// iteration of the BA solver (issue 6 benchmark; docs/performance.md "BA solver").
+// A unit square (2D, plane strain) or cube (3D) with n points per edge, m = 3.015, μ = 1,
+// K = 10, uniaxial stretch λ = 1.05 in one load step (left face x-fixed + pins, right face
+// displaced); times from the solver's own per-step report (summed over the Newton
+// iterations, divided by their number), peak RSS from getrusage.
+// Usage: bench_solver_newton <dim> <n> [linear=umfpack|cholmod|sparselu|bicgstab]
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "pdcg/solver/newton.hpp"
+
+namespace {
+double peak_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;
+}
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace pdcg::solver;
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: %s <dim 2|3> <points per edge> [linear solver]\n", argv[0]);
+    return 2;
+  }
+  const int dim = std::atoi(argv[1]), n = std::atoi(argv[2]);
+  const std::string linear = argc > 3 ? argv[3] : "umfpack";
+  GridSpec g;
+  g.dimension = dim;
+  g.spacing = 1.0 / n;
+  double t0 = now();
+  const auto D = Discretization::grid(g);
+  const double t_disc = now() - t0;
+  const auto mat =
+      make_neo_hookean({1.0, 10.0}, dim == 3 ? Kinematics::three_d : Kinematics::plane_strain);
+  t0 = now();
+  Model M(D, *mat);
+  const double t_model = now() - t0;
+  const double dx = g.spacing, xl = 0.5 * dx, xr = 1 - 0.5 * dx, lam = 1.05;
+  DisplacementSet left{"left", {}, {}}, pin{"pin", {}, {}}, pin2{"pin2", {}, {}},
+      right{"right", {}, {}};
+  left.component[0] = [](double) { return 0.0; };
+  pin.component[1] = [](double) { return 0.0; };
+  if (dim == 3) pin.component[2] = [](double) { return 0.0; };
+  pin2.component[1] = [](double) { return 0.0; };
+  right.component[0] = [=](double t) { return (lam - 1) * (xr - xl) * t; };
+  for (std::size_t i = 0; i < D.size(); ++i) {
+    const Vec3& x = D.positions()[i];
+    if (x.x() < dx) left.points.push_back(i);
+    if (x.x() > 1 - dx) right.points.push_back(i);
+    if (x.x() < dx && x.y() < dx && (dim == 2 || x.z() < dx)) pin.points.push_back(i);
+    if (dim == 3 && x.x() < dx && x.y() < dx && x.z() > 1 - dx) pin2.points.push_back(i);
+  }
+  std::vector<DisplacementSet> ds{left, pin, right};
+  if (dim == 3) ds.push_back(pin2);
+  NewtonOptions opt;
+  opt.steps = 1;
+  opt.tolerance = 1e-8;
+  opt.linear = parse_linear_solver(linear);
+  StaticSolver solver(M, ds, {}, opt);
+  StepReport last;
+  t0 = now();
+  solver.run([&](const StepReport& r) { last = r; });
+  const double t_run = now() - t0;
+  const int it = std::max(1, last.iterations);
+  std::printf(
+      "dim=%d n=%d points=%zu bonds=%zu linear=%s discretization_s=%.3f model_s=%.3f "
+      "newton_iterations=%d assembly_s_per_it=%.4f solve_s_per_it=%.4f run_s=%.3f "
+      "peak_rss_mb=%.0f\n",
+      dim, n, D.size(), D.families().index.size(), linear.c_str(), t_disc, t_model, last.iterations,
+      last.assembly_seconds / it, last.solve_seconds / it, t_run, peak_rss_mb());
+  return 0;
+}
