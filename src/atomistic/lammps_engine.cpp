@@ -190,8 +190,15 @@ LammpsEngine& LammpsEngine::operator=(LammpsEngine&&) noexcept = default;
 const std::vector<std::string>& LammpsEngine::commands() const { return impl_->commands; }
 
 LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
+  return energy_derivatives(atoms, 0.0, {});
+}
+
+LammpsResult LammpsEngine::energy_derivatives(const Atoms& atoms, double step,
+                                              const DerivativeSink& sink) const {
 #if !PDCG_WITH_LAMMPS
   (void)atoms;
+  (void)step;
+  (void)sink;
   throw InputError("embedded LAMMPS is not available in this build")
       .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
 #else
@@ -405,8 +412,141 @@ LammpsResult LammpsEngine::evaluate(const Atoms& atoms) const {
     for (int d = 0; d < 3; ++d) r.force[3 * k + static_cast<std::size_t>(d)] = f[i][d];
   }
   for (double e : r.energy) r.total_energy += e;
+  if (!sink) return r;
+  if (!(step > 0.0) || !std::isfinite(step))
+    throw InputError("finite-difference step must be positive")
+        .key("step")
+        .value(g17(step))
+        .expected("a small positive length, e.g. 1e-5 of the bond length");
+
+  // Central differences. Positions are changed in place through the atom map (sort is off,
+  // serial: local order never changes, but the map is re-read after every run to be safe);
+  // LAMMPS may wrap a moved atom across a periodic boundary, which leaves energies unchanged,
+  // so the position is restored by adding back the same offsets.
+  std::vector<double> plus(n), dpsi(n);
+  auto read_energies = [&](std::vector<double>& out) {
+    const int nl = lammps_extract_setting(lmp, "nlocal");
+    if (nl != static_cast<int>(n))
+      throw NumericalError(
+          fmt::format("LAMMPS lost atoms during finite differences: {} of {} "
+                      "left; the step {} moved an atom out of a non-periodic box",
+                      nl, n, g17(step)));
+    void* tg = lammps_extract_atom(lmp, "id");
+    auto* e = static_cast<double*>(
+        lammps_extract_compute(lmp, "pdcg_pe", LMP_STYLE_ATOM, LMP_TYPE_VECTOR));
+    for (int i = 0; i < nl; ++i) {
+      const std::int64_t id =
+          tagsize == 8 ? static_cast<std::int64_t*>(tg)[i] : static_cast<std::int32_t*>(tg)[i];
+      out[static_cast<std::size_t>(id - 1)] = e[i];
+    }
+  };
+  auto move = [&](std::size_t k, int d, double delta) {
+    const int nl = lammps_extract_setting(lmp, "nlocal");
+    void* tg = lammps_extract_atom(lmp, "id");
+    auto** x = static_cast<double**>(lammps_extract_atom(lmp, "x"));
+    for (int i = 0; i < nl; ++i) {
+      const std::int64_t id =
+          tagsize == 8 ? static_cast<std::int64_t*>(tg)[i] : static_cast<std::int32_t*>(tg)[i];
+      if (static_cast<std::size_t>(id - 1) == k) {
+        x[i][d] += delta;
+        return;
+      }
+    }
+  };
+  for (std::size_t j = 0; j < n; ++j)
+    for (int d = 0; d < 3; ++d) {
+      move(j, d, step);
+      lammps_command(lmp, "run 0 post no");
+      read_energies(plus);
+      move(j, d, -2.0 * step);
+      lammps_command(lmp, "run 0 post no");
+      read_energies(dpsi);
+      move(j, d, step);
+      for (std::size_t k = 0; k < n; ++k) dpsi[k] = (plus[k] - dpsi[k]) / (2.0 * step);
+      sink(j, d, std::span<const double>(dpsi));
+    }
   return r;
 #endif
+}
+
+double lammps_force_states(const LammpsEngine& engine, const Atoms& atoms, const Families& families,
+                           std::span<double> psi_out, std::span<double> t_out, double step) {
+  const std::size_t n = atoms.size();
+  if (families.points() != n)
+    throw InputError("families and configuration differ in size")
+        .value(fmt::format("{} family points, {} atoms", families.points(), n))
+        .expected("the configuration the families were built from");
+  if (psi_out.size() != n || t_out.size() != 3 * families.bonds())
+    throw InputError("lammps_force_states: output arrays of the wrong size")
+        .expected(
+            fmt::format("{} energies and {} force-state components", n, 3 * families.bonds()));
+  // (1) one image per atom in every family (families are sorted by neighbour, then shift).
+  for (std::size_t k = 0; k < n; ++k)
+    for (auto b = families.offset[k] + 1; b < families.offset[k + 1]; ++b)
+      if (families.neighbor[static_cast<std::size_t>(b)] ==
+          families.neighbor[static_cast<std::size_t>(b - 1)])
+        throw InputError(
+            "a family holds two periodic images of one atom: finite differences of LAMMPS "
+            "energies cannot separate them")
+            .key("box")
+            .value(fmt::format(
+                "atom id {} sees atom id {} twice", atoms.id[k],
+                atoms.id[static_cast<std::size_t>(families.neighbor[static_cast<std::size_t>(b)])]))
+            .expected("periodic box edges longer than twice the horizon")
+            .fix("replicate the configuration (LAMMPS `replicate`) before building the body");
+  if (step == 0.0 && families.bonds() > 0) {
+    double sum = 0.0;
+    for (std::size_t b = 0; b < families.bonds(); ++b)
+      sum += std::sqrt(families.xi[3 * b] * families.xi[3 * b] +
+                       families.xi[3 * b + 1] * families.xi[3 * b + 1] +
+                       families.xi[3 * b + 2] * families.xi[3 * b + 2]);
+    step = 1e-5 * sum / static_cast<double>(families.bonds());  // O(h²) ≈ 1e-10 relative
+  }
+  if (step == 0.0) step = 1e-5;
+  std::fill(t_out.begin(), t_out.end(), 0.0);
+  std::vector<char> covered(n, 0);
+  double largest = 0.0, worst_outside = 0.0;
+  std::size_t worst_k = 0, worst_j = 0;
+  const LammpsResult r = engine.energy_derivatives(
+      atoms, step, [&](std::size_t j, int d, std::span<const double> dpsi) {
+        std::fill(covered.begin(), covered.end(), 0);
+        covered[j] = 1;  // ∂ψ_j/∂y_j = −Σ_k ∂ψ_j/∂y_k (translation invariance): not a bond
+        for (auto b = families.offset[j]; b < families.offset[j + 1]; ++b) {
+          const auto k = static_cast<std::size_t>(families.neighbor[static_cast<std::size_t>(b)]);
+          const auto rb = static_cast<std::size_t>(families.reverse[static_cast<std::size_t>(b)]);
+          t_out[3 * rb + static_cast<std::size_t>(d)] = dpsi[k];  // bond k → j
+          covered[k] = 1;
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+          largest = std::max(largest, std::abs(dpsi[k]));
+          if (!covered[k] && std::abs(dpsi[k]) > worst_outside) {
+            worst_outside = std::abs(dpsi[k]);
+            worst_k = k;
+            worst_j = j;
+          }
+        }
+      });
+  // (2) ψ_k must not depend on atoms outside k's family. 1e-7: far above the finite-difference
+  // noise (≈ 1e-16 |ψ|/h), far below a real interaction.
+  if (worst_outside > 1e-7 * largest) {
+    const Eigen::Vector3d d = atoms.box.minimum_image_exact(
+        Eigen::Vector3d(atoms.x[3 * worst_j] - atoms.x[3 * worst_k],
+                        atoms.x[3 * worst_j + 1] - atoms.x[3 * worst_k + 1],
+                        atoms.x[3 * worst_j + 2] - atoms.x[3 * worst_k + 2]));
+    throw InputError(
+        "horizon too small for this potential: an atom's energy depends on an atom "
+        "outside its family")
+        .key("cutoff")
+        .value(fmt::format("ψ of atom id {} depends on atom id {} at distance {:.6g} "
+                           "(|∂ψ/∂y| = {:.3g}, largest {:.3g})",
+                           atoms.id[worst_k], atoms.id[worst_j], d.norm(), worst_outside, largest))
+        .expected("families that hold every atom a per-atom energy depends on")
+        .fix(
+            "build the body with cutoff ≥ 2 r_c for three-body and bond-order styles "
+            "(sw, tersoff)");
+  }
+  std::copy(r.energy.begin(), r.energy.end(), psi_out.begin());
+  return r.total_energy;
 }
 
 }  // namespace pdcg::atomistic

@@ -6,8 +6,8 @@
 /// potentials in tests, and the fallback for styles pdcg has no native implementation of
 /// (tersoff, sw, meam, …): per-atom energies (compute pe/atom: pair energy split ½–½, bond
 /// energy ½–½, EAM embedding energy on its atom) and forces for one configuration.
-/// Force states (t_kj) for many-body fallback styles are not available: bodies built on such
-/// styles need a native Potential (a later issue).
+/// Force states (t_kj = ∂ψ_k/∂y_j) for fallback styles come from central differences of the
+/// per-atom energies (energy_derivatives below; atomistic::lammps_force_states in families.hpp).
 ///
 /// Per evaluation: a fresh instance (`-log none -screen none -nocite`), `units`, `atom_style`,
 /// `atom_modify map array`, boundary from Box::periodic (non-periodic = `f`, the box widened to
@@ -17,11 +17,14 @@
 /// on any LAMMPS error, so styles, files and type counts are validated before any command.
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "pdcg/atomistic/atoms.hpp"
+#include "pdcg/atomistic/families.hpp"
 #include "pdcg/atomistic/potential.hpp"
 
 namespace pdcg::atomistic {
@@ -45,6 +48,19 @@ class LammpsEngine {
   /// Positions may lie outside a periodic box (LAMMPS wraps them).
   LammpsResult evaluate(const Atoms& atoms) const;
 
+  /// Derivatives of every per-atom energy with respect to every atom position, by central
+  /// differences on one LAMMPS instance:
+  ///   ∂ψ_k/∂y_{j,d} ≈ [ψ_k(y + h e_{j,d}) − ψ_k(y − h e_{j,d})] / (2h),   error O(h²).
+  /// For each atom j (input order) and direction d = 0,1,2, sink(j, d, dpsi) receives
+  /// dpsi[k] for every atom k (input order); the span is valid during the call only. Returns
+  /// the unperturbed evaluation. 6N + 1 `run 0` evaluations of the whole configuration:
+  /// O(N²) work, meant for small configurations (up to a few thousand atoms).
+  /// In a periodic box an atom moves with all its images, so ψ_k's dependence on two images
+  /// of the same atom is summed (callers check that families hold one image per atom).
+  using DerivativeSink = std::function<void(std::size_t j, int d, std::span<const double> dpsi)>;
+  LammpsResult energy_derivatives(const Atoms& atoms, double step,
+                                  const DerivativeSink& sink) const;
+
   /// The LAMMPS commands of the last evaluation (for diagnostics).
   const std::vector<std::string>& commands() const;
 
@@ -52,5 +68,22 @@ class LammpsEngine {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Force states of a style evaluated by embedded LAMMPS (many-body through the per-atom
+/// energy, DESIGN.md §2.1): ψ_k and t_b = ∂ψ_k/∂Y⟨ξ_b⟩ for every bond b = (k → j) of
+/// `families`, at the configuration `atoms` (same atoms and order as the families were built
+/// from, positions possibly deformed). ψ_k is a function of the relative positions only, so
+/// ∂ψ_k/∂Y⟨ξ_kj⟩ = ∂ψ_k/∂y_j, taken from LammpsEngine::energy_derivatives; then
+/// f_k = Σ_b (t_b − t_reverse[b]) is the LAMMPS force up to the O(h²) truncation.
+/// Requirements, checked with an InputError naming the atoms: (1) a family holds at most one
+/// periodic image of each atom (box edges longer than twice the horizon); (2) the horizon
+/// covers everything ψ_k depends on — for three-body and bond-order styles (sw, tersoff)
+/// LAMMPS splits each three-body energy over its atoms, which can be 2 r_c apart, so the
+/// families need cutoff ≥ 2 r_c. Any derivative of ψ_k with respect to an atom outside k's
+/// family larger than 1e-7 of the largest derivative is such an error.
+/// step: finite-difference step (length units); 0 = 1e-5 × mean reference bond length.
+/// Returns Σ_k ψ_k.
+double lammps_force_states(const LammpsEngine& engine, const Atoms& atoms, const Families& families,
+                           std::span<double> psi_out, std::span<double> t_out, double step = 0.0);
 
 }  // namespace pdcg::atomistic

@@ -100,7 +100,8 @@ Reference run_lmp(const Atoms& at, const std::string& potential_lines, const std
     ++read;
   }
   EXPECT_EQ(read, at.size());
-  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);  // kept for diagnosis otherwise
+  if (!::testing::Test::HasFailure())
+    std::filesystem::remove_all(dir);  // kept for diagnosis otherwise
   return r;
 }
 
@@ -136,6 +137,102 @@ TEST(LammpsEngine, StillingerWeberFallbackMatchesLmpDump) {
   // Same LAMMPS code on the same positions: round-off.
   EXPECT_LT(pdcg::test::max_norm_relative_error(r.force, ref.f), 1e-12);
   EXPECT_LT(pdcg::test::max_norm_relative_error(r.energy, ref.pe), 1e-12);
+}
+
+// Force states of fallback styles from finite differences of LAMMPS per-atom energies
+// (DESIGN.md §2.1: t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩): the PD force Σ_j (t_kj − t_jk) must be the LAMMPS
+// force. The reference is the `lmp` executable's dump of the same configuration.
+namespace {
+struct ForceStateRun {
+  Families families;
+  std::vector<double> psi, t, f;
+  double total = 0.0;
+};
+ForceStateRun fallback_force_states(const LammpsEngine& engine, const Atoms& at, double cutoff) {
+  ForceStateRun r;
+  FamilyOptions opt;
+  opt.cutoff = cutoff;
+  r.families = build_families(at, opt);
+  r.psi.resize(at.size());
+  r.t.resize(3 * r.families.bonds());
+  r.f.resize(3 * at.size());
+  r.total = lammps_force_states(engine, at, r.families, r.psi, r.t);
+  pd_forces(r.families, r.t, r.f);
+  return r;
+}
+}  // namespace
+
+TEST(LammpsForceStates, TersoffPdForcesEqualLmpForces) {
+  const std::string resolved =
+      "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n";
+  const Atoms at = diamond(3, 5.431, 0.03, 71);  // box 16.3 Å > 2 × horizon
+  const LammpsEngine engine(
+      read_potential_commands_from_string("units metal\n" + resolved, "si-tersoff.in", 1));
+  // Si.tersoff: r_c = R + D = 3.0 Å; bond-order energies reach 2 r_c.
+  const ForceStateRun run = fallback_force_states(engine, at, 6.1);
+  const Reference ref = run_lmp(at, resolved, "tersoff_fs");
+  // Central differences, h = 1e-5 × mean bond (≈ 5e-5 Å): truncation O(h²) ≈ 1e-9 relative,
+  // round-off ≈ 1e-16 |ψ|/h per term summed over ~100 bonds: 1e-7 is a safe bound.
+  const double err = pdcg::test::max_norm_relative_error(run.f, ref.f);
+  std::printf("tersoff: PD force vs lmp, max-norm relative error %.3g\n", err);
+  EXPECT_LT(err, 1e-7);
+  // ψ_k is LAMMPS's pe/atom of the unperturbed configuration: round-off.
+  EXPECT_LT(pdcg::test::max_norm_relative_error(run.psi, ref.pe), 1e-12);
+  // Bonds longer than r_c carry force states (three-body terms): the 2 r_c horizon is needed.
+  double beyond = 0.0;
+  for (std::size_t b = 0; b < run.families.bonds(); ++b) {
+    const double* xi = &run.families.xi[3 * b];
+    if (std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]) > 3.0)
+      beyond = std::max(
+          beyond, std::abs(run.t[3 * b]) + std::abs(run.t[3 * b + 1]) + std::abs(run.t[3 * b + 2]));
+  }
+  EXPECT_GT(beyond, 1e-3);
+}
+
+TEST(LammpsForceStates, StillingerWeberFreeClusterForcesEqualLammpsForces) {
+  const std::string lines =
+      "pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n";
+  Atoms at = diamond(2, 5.431, 0.03, 72);
+  at.box.periodic = {false, false, false};  // free cluster: surfaces everywhere
+  const LammpsEngine engine(
+      read_potential_commands_from_string("units metal\n" + lines, "sw.in", 1));
+  const LammpsResult direct = engine.evaluate(at);
+  // Si.sw: r_c = a σ = 3.77 Å; three-body terms reach 2 r_c.
+  const ForceStateRun run = fallback_force_states(engine, at, 7.6);
+  // Finite differences against LAMMPS's analytic forces (same reasoning as above).
+  const double err = pdcg::test::max_norm_relative_error(run.f, direct.force);
+  std::printf("sw cluster: PD force vs LAMMPS, max-norm relative error %.3g\n", err);
+  EXPECT_LT(err, 1e-7);
+  EXPECT_NEAR(run.total, direct.total_energy, 1e-12 * std::abs(direct.total_energy));
+}
+
+TEST(LammpsForceStates, HorizonOfOneCutoffIsRejectedForThreeBodyStyles) {
+  const std::string lines =
+      "pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n";
+  Atoms at = diamond(2, 5.431, 0.03, 73);
+  at.box.periodic = {false, false, false};
+  const LammpsEngine engine(
+      read_potential_commands_from_string("units metal\n" + lines, "sw.in", 1));
+  try {
+    (void)fallback_force_states(engine, at, 3.8);  // r_c only
+    FAIL() << "expected InputError";
+  } catch (const pdcg::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("horizon too small"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LammpsForceStates, TwoImagesOfOneAtomAreRejected) {
+  const std::string lines =
+      "pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n";
+  const Atoms at = diamond(2, 5.431, 0.0, 74);  // periodic box 10.9 Å < 2 × 7.6 Å
+  const LammpsEngine engine(
+      read_potential_commands_from_string("units metal\n" + lines, "sw.in", 1));
+  try {
+    (void)fallback_force_states(engine, at, 7.6);
+    FAIL() << "expected InputError";
+  } catch (const pdcg::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("two periodic images"), std::string::npos) << e.what();
+  }
 }
 
 TEST(LammpsEngine, UnknownStyleIsAnInputErrorNotAnAbort) {
