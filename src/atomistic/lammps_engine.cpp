@@ -103,6 +103,12 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
 }  // namespace
 #endif
 
+#if PDCG_WITH_LAMMPS
+std::vector<std::string> lammps_potential_commands(const PotentialSpec& spec) {
+  return potential_commands(spec);
+}
+#endif
+
 LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>()) {
   require_supported_styles(spec);
 #if !PDCG_WITH_LAMMPS

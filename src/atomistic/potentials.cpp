@@ -1,5 +1,6 @@
 // Native potentials: pointwise laws (pair, bond, EAM tables) separate from the family loops.
 #include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/atomistic/lammps_potential.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -810,15 +811,9 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
   if (ps == "eam" || ps == "eam/alloy" || ps == "eam/fs")
     return std::make_unique<EamModel>(spec, build_eam_tables(spec), std::move(bonds));
   require_supported_styles(spec);
-  throw InputError("pair style has no native implementation (no force states)")
-      .source(spec.source)
-      .line(spec.pair_style_line)
-      .key("pair_style")
-      .value(ps)
-      .expected("lj/cut, morse, zero, eam, eam/alloy or eam/fs")
-      .fix(
-          "evaluate per-atom energies and forces through embedded LAMMPS (LammpsEngine); PD force "
-          "states for many-body fallback styles are not available yet");
+  // Any other style LAMMPS knows: force states by central differences of LAMMPS's per-atom
+  // energies on clusters (include/pdcg/atomistic/lammps_potential.hpp).
+  return make_lammps_potential(spec);
 }
 
 FamilyOptions family_options(const Potential& potential, const PotentialSpec& spec,

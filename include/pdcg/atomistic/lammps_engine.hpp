@@ -69,6 +69,10 @@ class LammpsEngine {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The LAMMPS commands of `spec` (mass, pair_style, pair_coeff with potential files resolved,
+/// pair_modify, bond_style, bond_coeff, special_bonds). Defined only when LAMMPS is embedded.
+std::vector<std::string> lammps_potential_commands(const PotentialSpec& spec);
+
 /// Force states of a style evaluated by embedded LAMMPS (many-body through the per-atom
 /// energy, DESIGN.md §2.1): ψ_k and t_b = ∂ψ_k/∂Y⟨ξ_b⟩ for every bond b = (k → j) of
 /// `families`, at the configuration `atoms` (same atoms and order as the families were built

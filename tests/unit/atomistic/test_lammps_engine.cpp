@@ -13,6 +13,7 @@
 
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg_test.hpp"
 
@@ -168,8 +169,8 @@ TEST(LammpsForceStates, TersoffPdForcesEqualLmpForces) {
   const Atoms at = diamond(3, 5.431, 0.03, 71);  // box 16.3 Å > 2 × horizon
   const LammpsEngine engine(
       read_potential_commands_from_string("units metal\n" + resolved, "si-tersoff.in", 1));
-  // Si.tersoff: r_c = R + D = 3.0 Å; bond-order energies reach 2 r_c.
-  const ForceStateRun run = fallback_force_states(engine, at, 6.1);
+  // Si.tersoff: R = 3.0, D = 0.2 → r_c = R + D = 3.2 Å; bond-order energies reach 2 r_c.
+  const ForceStateRun run = fallback_force_states(engine, at, 6.5);
   const Reference ref = run_lmp(at, resolved, "tersoff_fs");
   // Central differences, h = 1e-5 × mean bond (≈ 5e-5 Å): truncation O(h²) ≈ 1e-9 relative,
   // round-off ≈ 1e-16 |ψ|/h per term summed over ~100 bonds: 1e-7 is a safe bound.
@@ -182,7 +183,7 @@ TEST(LammpsForceStates, TersoffPdForcesEqualLmpForces) {
   double beyond = 0.0;
   for (std::size_t b = 0; b < run.families.bonds(); ++b) {
     const double* xi = &run.families.xi[3 * b];
-    if (std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]) > 3.0)
+    if (std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]) > 3.2)
       beyond = std::max(
           beyond, std::abs(run.t[3 * b]) + std::abs(run.t[3 * b + 1]) + std::abs(run.t[3 * b + 2]));
   }
@@ -233,6 +234,33 @@ TEST(LammpsForceStates, TwoImagesOfOneAtomAreRejected) {
   } catch (const pdcg::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("two periodic images"), std::string::npos) << e.what();
   }
+}
+
+// The same fallback as a Potential (make_potential for a non-native style): force states
+// per family on free clusters; the PD forces of the whole periodic body are the LAMMPS forces.
+TEST(LammpsPotential, TersoffBodyForcesEqualLammpsForces) {
+  const std::string lines =
+      "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n";
+  const PotentialSpec spec =
+      read_potential_commands_from_string("units metal\n" + lines, "si-tersoff.in", 1);
+  const auto potential = make_potential(spec);
+  // Si.tersoff: R = 3.0, D = 0.2 (the file) → r_c = 3.2 Å, family cutoff 2 r_c; measured by
+  // bisection to 1e-9 relative
+  EXPECT_NEAR(potential->cutoff(), 6.4, 1e-7);
+  const Atoms at = diamond(2, 5.431, 0.03, 75);  // box 10.9 Å < 2 × 6.4 Å: images are partners
+  const Families fam = build_families(at, family_options(*potential, spec, nullptr));
+  std::vector<double> bonds(3 * fam.bonds()), psi(at.size()), t(3 * fam.bonds()), f(3 * at.size());
+  deformed_bonds(fam, at.x, fam.h, bonds);
+  const double total = force_states(*potential, fam, at.type, bonds, psi, t);
+  pd_forces(fam, t, f);
+  const LammpsResult direct = LammpsEngine(spec).evaluate(at);
+  const double err = pdcg::test::max_norm_relative_error(f, direct.force);
+  std::printf("tersoff body (cluster force states): max-norm relative force error %.3g\n", err);
+  // central differences (h = 1e-5 × mean bond), as in LammpsForceStates above
+  EXPECT_LT(err, 1e-7);
+  // ψ_k on the cluster is LAMMPS's periodic pe/atom: summation-order round-off
+  EXPECT_LT(pdcg::test::max_norm_relative_error(psi, direct.energy), 1e-12);
+  EXPECT_NEAR(total, direct.total_energy, 1e-11 * std::abs(direct.total_energy));
 }
 
 TEST(LammpsEngine, UnknownStyleIsAnInputErrorNotAnAbort) {
