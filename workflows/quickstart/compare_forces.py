@@ -6,7 +6,10 @@ import sys
 
 pd = {int(r["id"]): (float(r["fx"]), float(r["fy"]), float(r["fz"])) for r in csv.DictReader(open(sys.argv[1]))}
 lines = open(sys.argv[2]).read().splitlines()
-start = next(i for i, l in enumerate(lines) if l.startswith("ITEM: ATOMS"))
+# frame: optional third argument, 0-based, negative from the end (default 0)
+frame = int(sys.argv[3]) if len(sys.argv) > 3 else 0
+starts = [i for i, l in enumerate(lines) if l.startswith("ITEM: ATOMS")]
+start = starts[frame]
 cols = lines[start].split()[2:]
 md = {}
 for l in lines[start + 1:start + 1 + len(pd)]:
