@@ -21,7 +21,8 @@ namespace {
 /// ψ_k = ½ Σ_j ½ μ_n (r − n h)², n = round(r0/h): springs to the n-th neighbours of a chain.
 class ChainSprings final : public Potential {
  public:
-  ChainSprings(double h, std::vector<double> mu, bool analytic) : h_(h), mu_(std::move(mu)), analytic_(analytic) {}
+  ChainSprings(double h, std::vector<double> mu, bool analytic)
+      : h_(h), mu_(std::move(mu)), analytic_(analytic) {}
   std::string style() const override { return "test chain springs"; }
   double cutoff() const override { return (static_cast<double>(mu_.size()) + 0.5) * h_; }
   int ntypes() const override { return 1; }
@@ -49,7 +50,8 @@ class ChainSprings final : public Potential {
       const double d2 = mu, d1r = mu * (r - r0) / r;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c)
-          K[(b * n + b) * 9 + 3 * a + c] = 0.5 * ((d2 - d1r) * y[a] * y[c] / (r * r) + (a == c ? d1r : 0.0));
+          K[(b * n + b) * 9 + 3 * a + c] =
+              0.5 * ((d2 - d1r) * y[a] * y[c] / (r * r) + (a == c ? d1r : 0.0));
     }
   }
 
@@ -142,8 +144,12 @@ TEST(ModelDispersion, CellWithBasisFoldsTheChainBands) {
   for (double k : {0.1, 0.7, 1.3}) {
     const Eigen::VectorXd w = cell_omega(lin, mass, {k, 0, 0});
     ASSERT_EQ(w.size(), 6);
-    EXPECT_NEAR(w[5], std::max(chain_omega(k, 1, 1, mu), chain_omega(k + std::numbers::pi, 1, 1, mu)), 1e-12);
-    EXPECT_NEAR(w[4], std::min(chain_omega(k, 1, 1, mu), chain_omega(k + std::numbers::pi, 1, 1, mu)), 1e-12);
+    EXPECT_NEAR(w[5],
+                std::max(chain_omega(k, 1, 1, mu), chain_omega(k + std::numbers::pi, 1, 1, mu)),
+                1e-12);
+    EXPECT_NEAR(w[4],
+                std::min(chain_omega(k, 1, 1, mu), chain_omega(k + std::numbers::pi, 1, 1, mu)),
+                1e-12);
   }
 }
 
@@ -154,7 +160,8 @@ TEST(ModelDispersion, FiniteDifferenceTangentMatchesAnalytic) {
   const LinearisedFamilies le(exact, fam, a.type), lf(fd, fam, a.type);
   const std::vector<double> mass{1.0};
   // central differences, step 6e-6: error ≈ 1e-10 relative (see potential.hpp)
-  for (double k : {0.3, 1.7, 3.1}) EXPECT_NEAR(longitudinal(lf, mass, k), longitudinal(le, mass, k), 1e-8);
+  for (double k : {0.3, 1.7, 3.1})
+    EXPECT_NEAR(longitudinal(lf, mass, k), longitudinal(le, mass, k), 1e-8);
 }
 
 TEST(ModelDispersion, SymmetryPathsAndBadLabels) {
@@ -169,5 +176,17 @@ TEST(ModelDispersion, SymmetryPathsAndBadLabels) {
     EXPECT_NE(std::string(e.what()).find("'Q'"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("G, X, L, K, W, U"), std::string::npos) << e.what();
   }
+  // labels of another lattice: K on a chain (whose labels are G and X), M on fcc
+  try {
+    path("chain", 1.0, "G-K", 4);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'K'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("one of G, X for lattice chain"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(path("fcc", 1.0, "G-M", 4), InputError);
+  EXPECT_NO_THROW(path("hex", 1.0, "G-M-K-G", 4));
+  EXPECT_NO_THROW(path("chain", 1.0, "Γ-X", 4));
   EXPECT_THROW(symmetry_points("quasicrystal", 1.0), InputError);
 }
