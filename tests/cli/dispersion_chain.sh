@@ -92,5 +92,20 @@ EOF2
 expect_error path-K-on-chain  "--path.*path label unknown for this lattice.*'K'.*one of G, X for lattice chain" chain.h5 --path G-K -o x.csv
 expect_error path-Q           "--path.*path label unknown for this lattice.*'Q'.*one of G, X for lattice chain" chain.h5 --path G-X-Q -o x.csv
 expect_error path-bad-lattice "--lattice.*unknown lattice.*'fcc2'.*one of fcc, bcc, sc, hex, chain" chain.h5 --path G-X --lattice fcc2 --a 1 -o x.csv
+# issue 9 safeguard through the CLI: a compressed chain (rest length 1.1 at spacing 1) has
+# transverse ω² = −0.2(1 − cos κ) < 0: written as −√|ω²| (finite, no NaN) with a warning
+sed 's/^bond_coeff 1 0.5 1.0/bond_coeff 1 0.5 1.1/' potential.chain > compressed.chain
+"$pdcg" -q atoms2pd --input mu2_0.0/chain.data --potential compressed.chain --dimension 1 --boundary "p f f" -o compressed.h5
+out=$("$pdcg" dispersion compressed.h5 --direction 1,0,0 --nk 8 -o unstable.csv 2>&1)
+if grep -q "warning: unstable modes" <<<"$out" && /usr/bin/python3 - <<'PY'
+import csv, math
+rows = list(csv.DictReader(open("unstable.csv")))
+w1 = [float(r["omega_1"]) for r in rows]
+assert all(math.isfinite(float(v)) for r in rows for k, v in r.items())
+k = float(rows[-1]["kappa"])
+assert abs(w1[-1] + math.sqrt(0.2 * (1 - math.cos(k)))) < 1e-12, (w1[-1], k)  # −√|ω²| at the zone edge
+PY
+then echo "ok   unstable modes finite (−√|ω²|) with a warning"; else echo "FAIL unstable modes: $out"; fail=1; fi
+rm -f unstable.csv
 [ ! -e x.csv ] || { echo "FAIL: an output file was written despite the errors"; fail=1; }
 [ $fail = 0 ] && echo "dispersion_chain: all passed" || { echo "dispersion_chain: FAILED"; exit 1; }
