@@ -130,8 +130,11 @@ TEST(ModelDispersion, RescaledChainFollowsOmegaOfEpsKappaOverEps) {
     auto w = [&](double k) { return chain_omega(k, 1.0, 1.0, mu); };
     for (double k : {0.1, 0.5, 1.0, std::numbers::pi / 2, std::numbers::pi / eps})
       EXPECT_NEAR(longitudinal(lin, mass, k), rescaled_omega(w, k, eps), 1e-12) << "ε = " << eps;
+    if (eps == 2.0) {  // issue 5: ε = 2 gives 0.841471 at κ = 1 (= sin 1) and 1 at κ = π/2
+      EXPECT_NEAR(longitudinal(lin, mass, 1.0), 0.841470984807897, 1e-12);
+      EXPECT_NEAR(longitudinal(lin, mass, std::numbers::pi / 2), 1.0, 1e-12);
+    }
   }
-  // issue 5: ε = 2 gives 0.841471 at κ = 1 (sin 1) and 1 at κ = π/2
 }
 
 TEST(ModelDispersion, CellWithBasisFoldsTheChainBands) {
