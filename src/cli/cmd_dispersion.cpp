@@ -33,7 +33,7 @@ struct Options {
   double a = 0.0, kmax = 0.0;
   int nk = 50;
   long point = -1;
-  bool cell = false;
+  bool cell = false, grid = false;
   std::string trajectory, axis = "x", component, frames = "0:-1", output, spectrum, compare;
   double dt = 0.0, resolution = 0.0;
   std::string window = "hann";
@@ -208,11 +208,50 @@ Eigen::Vector3d parse_vector(const std::string& text, const char* option) {
   return {v[0], v[1], v[2]};
 }
 
+int run_grid(const Options& o) {
+  if (!o.plot.empty() || !o.compare.empty())
+    throw pdcg::InputError("--grid writes the whole κ-grid; it has no curve to plot or compare")
+        .key(o.plot.empty() ? "--compare" : "--plot")
+        .expected("--grid without --plot and --compare")
+        .fix("use --direction or --path for curves");
+  const pdcg::body::Body body = pdcg::body::read_body(o.body);
+  const pdcg::dispersion::BodyDispersion model(
+      body,
+      o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt,
+      o.cell);
+  const auto g = model.grid();
+  pdcg::io::AtomicTextFile csv(o.output);
+  csv.stream() << "kappa,omega_1,omega_2,omega_3,kx,ky,kz\n";
+  double wmin = 0.0;
+  for (std::size_t i = 0; i < g.kappa.size(); ++i) {
+    const auto& k = g.kappa[i];
+    const auto& w = g.omega[i];
+    wmin = std::min(wmin, w.minCoeff());
+    csv.stream() << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n",
+                                k.norm(), w[0], w[1], w[2], k[0], k[1], k[2]);
+  }
+  csv.commit();
+  std::printf("model dispersion of %s on the κ-grid %d×%d×%d of the periodic box (one FFT) -> %s\n",
+              model.description().c_str(), g.size[0], g.size[1], g.size[2], o.output.c_str());
+  if (wmin < 0)
+    std::printf(
+        "warning: unstable modes (ω² < 0, written as −√|ω²|): the reference configuration is not a "
+        "minimum\n");
+  return 0;
+}
+
 int run_model(const Options& o) {
+  if (o.grid) {
+    if (!o.direction.empty() || !o.path.empty())
+      throw pdcg::InputError("give one of --direction, --path and --grid")
+          .key(o.direction.empty() ? "--path and --grid" : "--direction and --grid")
+          .expected("--direction 1,0,0, --path G-X-L or --grid");
+    return run_grid(o);
+  }
   if (o.direction.empty() == o.path.empty())
-    throw pdcg::InputError("give exactly one of --direction and --path")
-        .key(o.direction.empty() ? "--direction/--path" : "--direction and --path")
-        .expected("--direction 1,0,0 or --path G-X-L");
+    throw pdcg::InputError("give exactly one of --direction, --path and --grid")
+        .key(o.direction.empty() ? "--direction/--path/--grid" : "--direction and --path")
+        .expected("--direction 1,0,0, --path G-X-L or --grid");
   if (o.nk < 1)
     throw pdcg::InputError("--nk must be at least 1").key("--nk").value(std::to_string(o.nk));
   const pdcg::body::Body body = pdcg::body::read_body(o.body);
@@ -322,6 +361,9 @@ pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
                   "Model: lattice constant for --path (default: from the neighbour shell)");
   sub->add_option("--point", o->point,
                   "Model: atom / homogenised point index (default: nearest the box centre)");
+  sub->add_flag(
+      "--grid", o->grid,
+      "Model: every κ commensurate with the periodic box at once (FFTW); CSV kappa = |κ|");
   sub->add_flag("--cell", o->cell,
                 "Model: all atoms of the periodic body as a basis (3N folded branches)");
   sub->add_option("--plot", o->plot, "Model: PNG plot of the curves (matplotlib)");
@@ -348,6 +390,7 @@ pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
       "Examples:\n"
       "  pdcg dispersion body.h5 --path G-X-K-G-L --nk 40 -o disp.csv --plot disp.png\n"
       "  pdcg dispersion chain.h5 --direction 1,0,0 -o model.csv\n"
+      "  pdcg dispersion body.h5 --grid -o grid.csv\n"
       "  pdcg dispersion --trajectory chain.dump --axis x --dt 0.01 -o measured.csv --compare "
       "model.csv\n"
       "Model: eigenvalues of the dynamical matrix of the linearised body at one point (or cell).\n"

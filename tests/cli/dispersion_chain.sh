@@ -89,6 +89,22 @@ bond_coeff 2 0.0 2.0
 special_bonds lj/coul 0.0 1.0 1.0
 EOF2
 "$pdcg" -q atoms2pd --input mu2_0.0/chain.data --potential potential.chain --dimension 1 --boundary "p f f" -o chain.h5
+# the whole κ-grid of the periodic chain at once (FFTW): κ_m = 2πm/32, closed form to 1e-12
+"$pdcg" -q dispersion chain.h5 --grid -o grid.csv >/dev/null
+if /usr/bin/python3 - <<'PY'
+import csv, math
+rows = list(csv.DictReader(open("grid.csv")))
+assert len(rows) == 32, len(rows)
+ks = sorted(float(r["kx"]) for r in rows)
+assert all(abs(k - 2 * math.pi * m / 32) < 1e-12 for k, m in zip(ks, range(-16, 16))), ks
+worst = max(abs(float(r["omega_3"]) - math.sqrt(2 * (1 - math.cos(float(r["kx"]))))) for r in rows)
+print(f"   grid: worst |ω − closed form| = {worst:.2e}")
+assert worst < 1e-12
+PY
+then echo "ok   --grid equals the closed form"; else echo "FAIL --grid"; fail=1; fi
+rm -f grid.csv
+expect_error grid-and-path    '--direction and --grid|--path and --grid' chain.h5 --grid --path G-X -o x.csv
+expect_error grid-and-plot    '--plot.*no curve to plot' chain.h5 --grid --plot x.png -o x.csv
 expect_error path-K-on-chain  "--path.*path label unknown for this lattice.*'K'.*one of G, X for lattice chain" chain.h5 --path G-K -o x.csv
 expect_error path-Q           "--path.*path label unknown for this lattice.*'Q'.*one of G, X for lattice chain" chain.h5 --path G-X-Q -o x.csv
 expect_error path-bad-lattice "--lattice.*unknown lattice.*'fcc2'.*one of fcc, bcc, sc, hex, chain" chain.h5 --path G-X --lattice fcc2 --a 1 -o x.csv

@@ -7,8 +7,11 @@
 #include <vector>
 
 #include "pdcg/atomistic/families.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/dispersion/closed_form.hpp"
+#include "pdcg/dispersion/grid.hpp"
 #include "pdcg/dispersion/model.hpp"
 #include "pdcg_test.hpp"
 
@@ -192,4 +195,78 @@ TEST(ModelDispersion, SymmetryPathsAndBadLabels) {
   EXPECT_NO_THROW(path("hex", 1.0, "G-M-K-G", 4));
   EXPECT_NO_THROW(path("chain", 1.0, "Γ-X", 4));
   EXPECT_THROW(symmetry_points("quasicrystal", 1.0), InputError);
+}
+
+// The whole κ-grid at once (FFTW): the chain against the closed form at κ_m = 2πm/(N h), the
+// FCC LJ crystal against the direct sum point_omega at every grid κ (two code paths; the direct
+// one is checked against LAMMPS in test_lattice_dispersion).
+TEST(ModelDispersionGrid, ChainGridEqualsClosedForm) {
+  const Atoms a = chain(32, 1.0);
+  const ChainSprings pot(1.0, {1.0, 0.25}, true);
+  const Families fam = build_families(a, {pot.cutoff()});
+  const std::int32_t atom0[] = {0};
+  const LinearisedFamilies lin(pot, fam, a.type, atom0);
+  const std::vector<double> mass(32, 1.0);
+  const std::pair<std::int32_t, double> site[] = {{0, 1.0}};
+  const KappaGrid g = point_omega_grid(lin, site, mass, a.box);
+  ASSERT_EQ(g.size[0], 32);
+  ASSERT_EQ(g.size[1], 1);
+  ASSERT_EQ(g.kappa.size(), 32u);
+  const std::vector<double> mu{1.0, 0.25};
+  for (std::size_t i = 0; i < g.kappa.size(); ++i) {
+    const double k = g.kappa[i][0];
+    const int m = static_cast<int>(i) >= 16 ? static_cast<int>(i) - 32 : static_cast<int>(i);
+    EXPECT_NEAR(k, 2 * std::numbers::pi * m / 32.0, 1e-14);
+    EXPECT_NEAR(g.omega[i][2], chain_omega(k, 1.0, 1.0, mu), 1e-12)
+        << "κ = " << k;  // same formula: round-off
+  }
+}
+
+TEST(ModelDispersionGrid, FccLennardJonesGridEqualsDirectSum) {
+  const auto spec = read_potential_commands_from_string(
+      "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0 2.5\n", "lj", 1);
+  const auto pot = make_potential(spec);
+  const double a0 = 1.5874010519681994;
+  Atoms at;
+  at.box.lo = {0, 0, 0};
+  at.box.hi = {4 * a0, 4 * a0, 4 * a0};
+  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k)
+        for (const auto& b : basis) {
+          at.id.push_back(static_cast<std::int64_t>(at.id.size() + 1));
+          at.type.push_back(1);
+          at.x.insert(at.x.end(), {(i + b[0]) * a0, (j + b[1]) * a0, (k + b[2]) * a0});
+        }
+  const Families fam = build_families(at, {pot->cutoff()});
+  const std::int32_t atom0[] = {0};
+  const LinearisedFamilies lin(*pot, fam, at.type, atom0);
+  const std::vector<double> mass(at.size(), 1.0);
+  const std::pair<std::int32_t, double> site[] = {{0, 1.0}};
+  const KappaGrid g = point_omega_grid(lin, site, mass, at.box);
+  EXPECT_EQ(g.size, (std::array<int, 3>{8, 8, 8}));  // bonds on the a/2 grid of a 4a box
+  double wmax = 0, worst = 0;
+  for (std::size_t i = 0; i < g.kappa.size(); ++i) {
+    const Eigen::Vector3d w = point_omega(lin, site, mass, g.kappa[i]);
+    wmax = std::max(wmax, w.maxCoeff());
+    // compare ω² (signed): √ amplifies round-off near ω = 0 (at Γ the FFT's Σ_R Φ(R) = 0
+    // cancels to ~1e-13, whose root is 3e-7)
+    worst = std::max(worst,
+                     (w.cwiseProduct(w.cwiseAbs()) - g.omega[i].cwiseProduct(g.omega[i].cwiseAbs()))
+                         .cwiseAbs()
+                         .maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-12 * wmax * wmax);           // FFT vs direct sum: round-off only
+  EXPECT_EQ(g.omega[0], Eigen::Vector3d::Zero());  // κ = 0: exact zero, not round-off
+  EXPECT_GT(wmax, 20.0);  // the grid reaches the zone edge (ω_max ≈ 21.4 at X)
+  // a perturbed crystal has no lattice grid; a free body has no κ-grid
+  Atoms bad = at;
+  bad.x[3] += 0.01;
+  const Families fb = build_families(bad, {pot->cutoff()});
+  const LinearisedFamilies lb(*pot, fb, bad.type, atom0);
+  EXPECT_THROW(point_omega_grid(lb, site, mass, bad.box), InputError);
+  Atoms free = at;
+  free.box.periodic = {false, false, false};
+  EXPECT_THROW(point_omega_grid(lin, site, mass, free.box), InputError);
 }
