@@ -270,3 +270,30 @@ TEST(ModelDispersionGrid, FccLennardJonesGridEqualsDirectSum) {
   free.box.periodic = {false, false, false};
   EXPECT_THROW(point_omega_grid(lin, site, mass, free.box), InputError);
 }
+
+// High-symmetry points by name for the cubic, hexagonal and 1D lattices (textbook values,
+// e.g. Ashcroft & Mermin ch. 8; Setyawan & Curtarolo, Comput. Mater. Sci. 49 (2010) 299).
+TEST(ModelDispersion, SymmetryPointsOfEveryLattice) {
+  const double a = 2.0, pi = std::numbers::pi;
+  auto norm = [&](const std::string& lattice, const std::string& label) {
+    for (const auto& p : symmetry_points(lattice, a))
+      if (p.label == label) return p.kappa.norm();
+    ADD_FAILURE() << label << " missing for " << lattice;
+    return 0.0;
+  };
+  EXPECT_NEAR(norm("fcc", "X"), 2 * pi / a, 1e-14);
+  EXPECT_NEAR(norm("fcc", "L"), std::sqrt(3.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("fcc", "K"), 1.5 * std::sqrt(2.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("fcc", "W"), std::sqrt(5.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("bcc", "H"), 2 * pi / a, 1e-14);
+  EXPECT_NEAR(norm("bcc", "N"), std::sqrt(2.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("bcc", "P"), std::sqrt(3.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("sc", "X"), pi / a, 1e-14);
+  EXPECT_NEAR(norm("sc", "M"), std::sqrt(2.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("sc", "R"), std::sqrt(3.0) * pi / a, 1e-14);
+  EXPECT_NEAR(norm("hex", "M"), 2 * pi / (std::sqrt(3.0) * a),
+              1e-14);  // triangular lattice, spacing a
+  EXPECT_NEAR(norm("hex", "K"), 4 * pi / (3 * a), 1e-14);
+  EXPECT_NEAR(norm("chain", "X"), pi / a, 1e-14);
+  for (const char* l : {"fcc", "bcc", "sc", "hex", "chain"}) EXPECT_EQ(norm(l, "G"), 0.0);
+}
