@@ -103,6 +103,24 @@ assert worst < 1e-12
 PY
 then echo "ok   --grid equals the closed form"; else echo "FAIL --grid"; fail=1; fi
 rm -f grid.csv
+# model mode --compare: closed form at the same κ (written by Python) → error columns ≤ 1e-12
+/usr/bin/python3 -c "
+import math
+print('kappa,omega')
+for i in range(17):
+    k = math.pi * i / 16
+    print(f'{k:.17g},{math.sqrt(2 * (1 - math.cos(k))):.17g}')" > closed16.csv
+out=$("$pdcg" dispersion chain.h5 --direction 1,0,0 --nk 16 -o cmp.csv --compare closed16.csv 2>&1)
+if grep -q "worst error against closed16.csv" <<<"$out" && /usr/bin/python3 - <<'PY'
+import csv
+rows = list(csv.DictReader(open("cmp.csv")))
+assert len(rows) == 17 and "error_1" in rows[0] and "omega_ref_1" in rows[0], rows[0].keys()
+worst = max(abs(float(r["error_1"])) for r in rows)
+print(f"   --compare: worst error column {worst:.2e}")
+assert worst < 1e-12
+PY
+then echo "ok   model --compare error columns"; else echo "FAIL model --compare: $out"; fail=1; fi
+rm -f cmp.csv closed16.csv
 expect_error grid-and-path    '--direction and --grid|--path and --grid' chain.h5 --grid --path G-X -o x.csv
 expect_error grid-and-plot    '--plot.*no curve to plot' chain.h5 --grid --plot x.png -o x.csv
 expect_error path-K-on-chain  "--path.*path label unknown for this lattice.*'K'.*one of G, X for lattice chain" chain.h5 --path G-K -o x.csv
