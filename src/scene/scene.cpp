@@ -1038,6 +1038,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     E0 = ex->kinetic_energy() + model.energy(ex->displacement());
   }
   Progress progress("steps", static_cast<std::uint64_t>(steps));
+  const long progress_every = std::max(1L, steps / 2000);
   double E = E0;
   for (long n = first; n <= steps; ++n) {
     try {
@@ -1066,9 +1067,10 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
       h5->attribute("/", "damping_coefficient", st.c);
       finish_checkpoint(*h5, dir, n);
     }
-    progress.update(static_cast<std::uint64_t>(n),
-                    fmt::format("t = {:.4g}, E = {:.6g} ({:+.2e})", ex->time(), E,
-                                E0 != 0 ? (E - E0) / std::abs(E0) : 0.0));
+    if (n % progress_every == 0)  // formatting the line allocates: not every step
+      progress.update(static_cast<std::uint64_t>(n),
+                      fmt::format("t = {:.4g}, E = {:.6g} ({:+.2e})", ex->time(), E,
+                                  E0 != 0 ? (E - E0) / std::abs(E0) : 0.0));
     maybe_fail_after(n);
   }
   progress.finish(fmt::format("t = {:.4g}", ex->time()));
@@ -1210,6 +1212,11 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     write_xdmf(dir, N, written, s.rupture);
   };
   // Nominal load steps t = k/steps; a checkpoint after every checkpoint_every of them.
+  auto progress_text = [&] {
+    return rupture ? fmt::format("t = {:.4g}, {} bonds broken", solver.load_factor(),
+                                 body.broken_bonds())
+                   : fmt::format("t = {:.4g}", solver.load_factor());
+  };
   Progress progress("load steps", static_cast<std::uint64_t>(s.steps));
   for (int k = first; k <= s.steps; ++k) {
     solver.advance_to(static_cast<double>(k) / s.steps, on_step);
@@ -1226,13 +1233,10 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       }
       finish_checkpoint(*h5, dir, k);
     }
-    progress.update(static_cast<std::uint64_t>(k),
-                    rupture ? fmt::format("t = {:.4g}, {} bonds broken", solver.load_factor(),
-                                          body.broken_bonds())
-                            : fmt::format("t = {:.4g}", solver.load_factor()));
+    progress.update(static_cast<std::uint64_t>(k), progress_text());
     maybe_fail_after(k);
   }
-  progress.finish();
+  progress.finish(progress_text());
   log::info("done: {} steps, results in {}", counter, dir.string());
 }
 

@@ -102,5 +102,10 @@ out=$("$pdcg" run dyn.yaml --restart empty 2>&1); code=$?
 if [ $code = 2 ] && grep -q "no checkpoint" <<<"$out"; then echo "ok   no checkpoint refused"; else echo "FAIL no checkpoint: exit $code: $out"; fail=1; fi
 out=$("$pdcg" run dyn.yaml --restart dynamic.cut -o x 2>&1); code=$?
 if [ $code = 2 ] && grep -q "restart" <<<"$out"; then echo "ok   --restart with -o refused"; else echo "FAIL --restart -o: exit $code: $out"; fail=1; fi
+# progress line (stderr not a terminal: the final line): steps, time, rate, bonds broken
+out=$("$pdcg" run dyn.yaml -o progress.dyn 2>&1)
+if grep -Eq "steps 134/134 \(100%\) [0-9.e+]+/s elapsed [0-9.]+ s t = 3" <<<"$out"; then echo "ok   progress (dynamic)"; else echo "FAIL progress (dynamic): $out" | tail -3; fail=1; fi
+out=$("$pdcg" run rup.yaml -o progress.rup 2>&1)
+if grep -Eq "load steps 3/3 \(100%\) .*t = 1, 283 bonds broken" <<<"$out"; then echo "ok   progress (rupture)"; else echo "FAIL progress (rupture): $out" | tail -3; fail=1; fi
 if [ $fail -ne 0 ]; then echo "restart: FAILED"; exit 1; fi
 echo "restart: all passed"
