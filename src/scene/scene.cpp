@@ -445,6 +445,12 @@ Scene load_scene(const std::filesystem::path& file) {
                "quasi-static rupture is")
           .fix("remove inertia (quasi-static rupture with staggered re-equilibration)");
   }
+  if (!s.inertia && root["output"] && root["output"]["series_every"])
+    throw c
+        .err(root["output"]["series_every"], "output.series_every",
+             "series_every samples the energy time series of dynamic runs; a quasi-static run "
+             "writes reactions.csv at every load step")
+        .fix("remove series_every, or add inertia to effects");
   if (has("damping")) {
     const auto dn = root["damping"];
     if (!dn)

@@ -302,6 +302,8 @@ TEST(Inertia, BadInputIsReported) {
   EXPECT_TRUE(has(e, "output.checkpoint_every")) << e;
   e = error_of(base + "effects: [inertia]\ninertia: {end_time: 1}\noutput: {series_every: 0}\n");
   EXPECT_TRUE(has(e, "output.series_every")) << e;
+  e = error_of(quiet + "output: {series_every: 2}\n");
+  EXPECT_TRUE(has(e, "series_every samples the energy time series of dynamic runs")) << e;
   // the stable limit needs the model: checked when the run starts
   e = run_error_of(base + "effects: [inertia]\ninertia: {time_step: 1.0, end_time: 1}\n");
   EXPECT_TRUE(has(e, "above the stable limit") && has(e, "allow_unstable")) << e;
