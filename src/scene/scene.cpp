@@ -1049,9 +1049,11 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
   for (long n = first; n <= steps; ++n) {
     try {
       ex->step();
-    } catch (const NumericalError&) {
+    } catch (const NumericalError& e) {
       write_series();  // the series up to the failure, for the diagnosis
-      throw;
+      throw NumericalError(
+          fmt::format("{} (step {}; Δt = {:.6g} is {:.3g}× the stable limit {:.6g})", e.what(), n,
+                      dt, dt / ex->stable_limit(), ex->stable_limit()));
     }
     const bool last = n == steps;
     if (n % s.series_every == 0 || last) E = sample(n);

@@ -107,5 +107,13 @@ out=$("$pdcg" run dyn.yaml -o progress.dyn 2>&1)
 if grep -Eq "steps 134/134 \(100%\) [0-9.e+]+/s elapsed [0-9.]+ s t = 3" <<<"$out"; then echo "ok   progress (dynamic)"; else echo "FAIL progress (dynamic): $out" | tail -3; fail=1; fi
 out=$("$pdcg" run rup.yaml -o progress.rup 2>&1)
 if grep -Eq "load steps 3/3 \(100%\) .*t = 1, 283 bonds broken" <<<"$out"; then echo "ok   progress (rupture)"; else echo "FAIL progress (rupture): $out" | tail -3; fail=1; fi
+# the stable step from the command line: refused above the limit (exit 2); forced, the run
+# diverges and exits 1 with the ratio to the limit (the limit of this bar is 0.0280)
+sed 's/inertia: {end_time: 3.0}/inertia: {time_step: 0.04, end_time: 3.0}/' dyn.yaml > fast.yaml
+out=$("$pdcg" run fast.yaml -o fast 2>&1); code=$?
+if [ $code = 2 ] && grep -q "above the stable limit" <<<"$out"; then echo "ok   time_step above the limit refused"; else echo "FAIL refuse: exit $code: $out" | tail -3; fail=1; fi
+sed 's/inertia: {end_time: 3.0}/inertia: {time_step: 0.04, end_time: 3.0, allow_unstable: true}/' dyn.yaml > forced.yaml
+out=$("$pdcg" run forced.yaml -o forced 2>&1); code=$?
+if [ $code = 1 ] && grep -Eq "diverged|inadmissible" <<<"$out"; then echo "ok   forced unstable step diverges (exit 1)"; else echo "FAIL forced: exit $code: $out" | tail -3; fail=1; fi
 if [ $fail -ne 0 ]; then echo "restart: FAILED"; exit 1; fi
 echo "restart: all passed"
