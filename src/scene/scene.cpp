@@ -18,6 +18,7 @@
 #include "pdcg/io/atomic_output.hpp"
 #include "pdcg/io/hdf5.hpp"
 #include "pdcg/scene/expression.hpp"
+#include "pdcg/solver/explicit.hpp"
 
 namespace pdcg::scene {
 

@@ -45,7 +45,6 @@
 
 #include "pdcg/core/units.hpp"
 #include "pdcg/solver/discretization.hpp"
-#include "pdcg/solver/explicit.hpp"
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
 #include "pdcg/solver/rupture.hpp"
