@@ -409,6 +409,32 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   return true;
 }
 
+void StaticSolver::restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step) {
+  if (u.size() != u_.size() || f.size() != u_.size())
+    throw Error("internal error: restored state of another size");
+  u_ = u;
+  f_ = f;
+  t_ = t;
+  step_ = step;
+}
+
+void StaticSolver::prepare_restart() {
+  auto& S = *solvers_;
+  if (S.analysed || opt_.linear == LinearSolver::bicgstab) return;
+  Eigen::VectorXd f;
+  if (!model_->internal_force_and_tangent(Eigen::VectorXd::Zero(model_->dofs()), f, K_))
+    throw NumericalError("inadmissible reference state while preparing a restart");
+  for (std::size_t q = 0; q < red_map_.size(); ++q) Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+  const SparseCol A = Kff_;
+  if (opt_.linear == LinearSolver::cholmod)
+    S.cholmod.analyzePattern(A);
+  else if (opt_.linear == LinearSolver::umfpack)
+    S.umfpack.analyzePattern(A);
+  else
+    S.lu.analyzePattern(A);
+  S.analysed = true;
+}
+
 void StaticSolver::run(const std::function<void(const StepReport&)>& on_step) {
   const int steps = std::max(1, opt_.steps);
   for (int s = 1; s <= steps; ++s) advance_to(static_cast<double>(s) / steps, on_step);

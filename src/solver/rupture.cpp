@@ -114,6 +114,27 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
   return pass;
 }
 
+std::vector<std::int64_t> Rupture::broken_pairs() const {
+  const Csr& fam = body_->families();
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i < body_->size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q)
+      if (static_cast<std::size_t>(fam.index[q]) > i && body_->broken(q)) {
+        out.push_back(static_cast<std::int64_t>(i));
+        out.push_back(fam.index[q]);
+      }
+  return out;
+}
+
+void Rupture::restore(const std::vector<std::int64_t>& pairs, std::vector<int> anchor_points,
+                      std::vector<double> anchor_targets) {
+  if (pairs.size() % 2 != 0) throw Error("internal error: odd broken-pair list");
+  for (std::size_t k = 0; k < pairs.size(); k += 2)
+    body_->break_bond(static_cast<int>(pairs[k]), static_cast<int>(pairs[k + 1]));
+  body_->rebuild_broken(opt_.min_reciprocal_condition);
+  model_->set_anchors(std::move(anchor_points), std::move(anchor_targets), anchor_stiffness_);
+}
+
 std::size_t Rupture::commit(const Eigen::VectorXd& u) {
   const std::size_t n = body_->rebuild_broken(opt_.min_reciprocal_condition);
   if (n > 0) update_anchors(u);

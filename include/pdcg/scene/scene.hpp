@@ -29,6 +29,10 @@
 /// \code{.yaml}
 ///   effects: [rupture]
 ///   rupture: {criterion: bond_stretch, critical: 2.5}   # | principal_stretch | energy_density
+///   inertia: {integrator: velocity-verlet, time_step: auto, safety: 0.8, end_time: 10.0}
+///   damping: {type: viscous, coefficient: 0.1}   # or {type: adaptive-dynamic-relaxation}
+///   initial: {velocity: {x: "0.01*sin(pi*x)"}}  # expressions in x, y, z
+///   output: {checkpoint_every: 100}               # restart: pdcg run scene.yaml --restart DIR
 /// \endcode
 #pragma once
 
@@ -79,6 +83,29 @@ struct Scene {
   std::vector<std::string> effects;
   bool rupture = false;
   solver::RuptureOptions rupture_options;
+  /// `inertia:` (explicit dynamics); without it the run is quasi-static (Newton).
+  bool inertia = false;
+  std::string integrator = "velocity-verlet";
+  double time_step = 0.0;  ///< 0 = auto (safety × stable limit)
+  double safety = 0.8;
+  double end_time = 0.0;
+  bool allow_unstable = false;
+  /// `damping:` (with inertia): viscous (coefficient) or adaptive dynamic relaxation.
+  std::string damping_type;  ///< empty = none
+  double damping_coefficient = 0.0;
+  /// `initial: {velocity: {x: …}}`: per component, expressions in x, y, z.
+  std::array<std::string, 3> initial_velocity_text;
+  std::array<std::function<double(const double*)>, 3> initial_velocity;
+  /// Time series sample interval (steps) of dynamic runs.
+  int series_every = 1;
+  /// Checkpoint every N (load or time) steps; 0 = none.
+  int checkpoint_every = 0;
+};
+
+/// Options of a run beyond the scene file.
+struct RunOptions {
+  std::optional<std::filesystem::path> output;   ///< replaces output.directory
+  std::optional<std::filesystem::path> restart;  ///< continue from the last checkpoint there
 };
 
 /// Effects a scene may list, and those this build runs.
@@ -95,8 +122,11 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
                         const BoundaryCondition& bc);
 
 /// Runs the scene: per output step an HDF5 file (results_NNNN.h5) with the XDMF
-/// time series results.xdmf, reactions.csv and scene.resolved.yaml in the
-/// output directory (`out_override` replaces output.directory).
+/// time series results.xdmf, reactions.csv (dynamic: series.csv) and scene.resolved.yaml
+/// in the output directory (`out_override` replaces output.directory).
 void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_override = {});
+/// Same, with a restart: the output directory is the restart directory, and the run
+/// continues from its last checkpoint (InputError if there is none or the scene differs).
+void run_scene(const Scene& s, const RunOptions& options);
 
 }  // namespace pdcg::scene

@@ -95,6 +95,14 @@ class StaticSolver {
 
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
+  int step() const { return step_; }
+  /// Checkpoint restart: sets the state reached after a converged step. Call
+  /// prepare_restart() first, while the model is still the one of the start of the run.
+  void restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step);
+  /// Analyses the sparsity pattern with the tangent at u = 0, exactly as the first Newton
+  /// iteration of a fresh run does (UMFPACK's symbolic analysis looks at the values), so
+  /// that a restarted run factorises with the same ordering — bitwise the same results.
+  void prepare_restart();
   /// Reaction (Σ f_int − f_ext over the set's points) of displacement set i.
   Vec3 reaction(std::size_t set) const;
   const Eigen::VectorXd& internal_force() const { return f_; }

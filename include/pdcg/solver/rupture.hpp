@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,12 @@ class Rupture {
   std::size_t commit(const Eigen::VectorXd& u);
 
   const RuptureOptions& options() const { return opt_; }
+  /// Broken bonds as pairs (i < j), flattened [i0, j0, i1, j1, …] (checkpoints).
+  std::vector<std::int64_t> broken_pairs() const;
+  /// Checkpoint restart: breaks the given pairs on the intact body, rebuilds every touched
+  /// stencil (a pure function of the broken set) and sets the anchors as they were saved.
+  void restore(const std::vector<std::int64_t>& pairs, std::vector<int> anchor_points,
+               std::vector<double> anchor_targets);
   std::vector<double> damage() const { return body_->damage(); }
 
  private:
