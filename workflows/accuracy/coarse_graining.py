@@ -33,7 +33,8 @@ Also the dispersion of the homogenised (Wendland C2, support 2h, grid = lattice)
 
 Time: best of REPEAT runs, one thread: LAMMPS "Loop time" and process wall time; `pdcg md` loop
 time (its log line) and process wall time (reading the body, stable step bound, dumps included).
-Both runs write FRAMES + 1 dump frames.
+Both runs write FRAMES + 1 dump frames. Pareto front: over (loop time, displacement error at T) of
+the pdcg runs and the LAMMPS run (error 0: the reference).
 Writes coarse_graining.csv, coarse_graining_time.csv, coarse_graining.json and coarse_graining.png.
 """
 import json
@@ -49,6 +50,7 @@ import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import matplotlib.ticker
 
 PDCG = os.environ["PDCG"]
 N = int(os.environ.get("N", "2048"))
@@ -276,8 +278,9 @@ def main(out):
                 os.remove(f"{d}/{f}")
     os.remove(f"{out}/md/md.dump")
 
-    # Pareto front over (pdcg wall time, final displacement error); LAMMPS MD is the error-0 point
-    pts = [(r["pdcg_wall"], r["error_final"]) for r in rows]
+    # Pareto front over (loop time, final displacement error) of the pdcg runs and LAMMPS MD (error 0
+    # by construction: it is the reference). Loop times exclude process start-up (≈ 0.8 s for lmp).
+    pts = [(r["pdcg_loop"], r["error_final"]) for r in rows] + [(lmp_loop, 0.0)]
     for r, (t, e) in zip(rows, pts):
         r["pareto"] = not any((t2 <= t and e2 <= e) and (t2 < t or e2 < e) for t2, e2 in pts)
 
@@ -295,28 +298,32 @@ def main(out):
     json.dump(meta, open(f"{out}/coarse_graining.json", "w"), indent=1)
 
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.6))
-    e = np.array(EPS, dtype=float)
-    ax[0].loglog(e, [r["error_final"] for r in rows], "o-", label="displacement vs MD, t = T")
-    ax[0].loglog(e, [max(r["error_linear_final"], 1e-17) for r in rows], "x--", label="same, linear theory (dispersion only)")
-    ax[0].loglog(e, [max(r["dispersion_error"], 1e-17) for r in rows], "s-", label="dispersion |ω_ε(κ₀) − ω(κ₀)|/ω(κ₀)")
+    co = [r for r in rows if r["eps"] > 1]  # ε = 1: dispersion and linear-theory errors are exactly 0
+    ec = [r["eps"] for r in co]
+    ax[0].loglog([r["eps"] for r in rows], [r["error_final"] for r in rows], "o-",
+                 label="displacement vs MD at t = T (ε = 1: round-off)")
+    ax[0].loglog(ec, [r["error_linear_final"] for r in co], "x--", label="same, linear theory (dispersion only)")
+    ax[0].loglog(ec, [r["dispersion_error"] for r in co], "s-", label="dispersion |ω_ε(κ₀) − ω(κ₀)|/ω(κ₀)")
     ax[0].set_xlabel("ε")
     ax[0].set_ylabel("relative error")
+    ax[0].xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax[0].set_xticks(EPS, [str(x) for x in EPS])
     ax[0].legend(fontsize=8)
-    ax[0].set_title(f"LJ chain, N = {N}, κ₀h = {K0 * H:.3f}")
+    ax[0].set_title(f"LJ chain, N = {N}, κ₀h = {K0 * H:.3f}, travel {C_SOUND * T_END / (LAM * H):.1f} λ₀")
     for eps in EPS:
         t, et, lt = curves[eps]
-        ln, = ax[1].semilogy(t[1:], np.maximum(et[1:], 1e-17), "o-", ms=3, label=f"ε = {eps}")
-        ax[1].semilogy(t[1:], np.maximum(lt[1:], 1e-17), "--", color=ln.get_color(), lw=0.8)
+        ln, = ax[1].semilogy(t[1:], et[1:], "o-", ms=3, label=f"ε = {eps}")
+        if eps > 1:
+            ax[1].semilogy(t[1:], lt[1:], "--", color=ln.get_color(), lw=0.8)
     ax[1].set_xlabel("time (LJ units)")
     ax[1].set_ylabel("‖u_ε − u_MD‖/‖u_MD‖")
     ax[1].set_title("error vs simulated time (dashed: linear theory)")
     ax[1].legend(fontsize=8)
     for r in rows:
-        ax[2].loglog(r["pdcg_wall"], max(r["error_final"], 1e-17), "o", ms=7 if r["pareto"] else 4,
+        ax[2].loglog(r["pdcg_loop"], r["error_final"], "o", ms=7 if r["pareto"] else 4,
                      label=f"pdcg md ε = {r['eps']}" + (" (Pareto)" if r["pareto"] else ""))
-    ax[2].axvline(lmp_wall, color="k", ls=":", label=f"LAMMPS MD (reference) {lmp_wall:.2f} s")
-    ax[2].set_xlabel("wall time (s), one thread")
+    ax[2].axvline(lmp_loop, color="k", ls=":", label=f"LAMMPS MD (reference, error 0) {lmp_loop:.2f} s")
+    ax[2].set_xlabel("loop time (s), one thread, same simulated time")
     ax[2].set_ylabel("displacement error at T")
     ax[2].set_title("accuracy against cost")
     ax[2].legend(fontsize=8)
