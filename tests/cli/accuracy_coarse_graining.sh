@@ -14,11 +14,11 @@
 set -euo pipefail
 pdcg=$1 src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-PDCG=$pdcg N=256 LAM=16 EPS="1 2" REPEAT=1 FRAMES=4 STRAIN=1e-4 bash "$src/workflows/accuracy/coarse_graining.sh" "$tmp/out"
+PDCG=$pdcg LATTICES=chain N=256 LAM=16 EPS="1 2" REPEAT=1 FRAMES=4 STRAIN=1e-4 bash "$src/workflows/accuracy/coarse_graining.sh" "$tmp/out"
 /usr/bin/python3 - "$tmp/out" <<'PY'
 import json, math, sys
 import matplotlib.image as mpimg
-out = sys.argv[1]
+out = sys.argv[1] + "/chain"
 m = json.load(open(f"{out}/coarse_graining.json"))
 r1, r2 = m["rows"]
 assert (r1["eps"], r2["eps"], r1["points"], r2["points"]) == (1, 2, 256, 128)

@@ -1,7 +1,13 @@
 #!/usr/bin/env python3
-"""Coarse-graining accuracy against cost: rescaled models of an LJ chain vs LAMMPS MD (issue 9, item 2).
+"""Coarse-graining accuracy against cost: rescaled models of an LJ lattice vs LAMMPS MD (issue 9, item 2).
 
-usage: PDCG=/path/to/pdcg coarse_graining.py OUT_DIR
+usage: PDCG=/path/to/pdcg [LATTICE=chain|fcc] coarse_graining.py OUT_DIR
+
+LATTICE=fcc: the same with a long FCC bar (ρ* = 1, a = 4^(1/3)σ, N planes normal to x at spacing
+a/2, cross-section CROSS×CROSS cells, periodic in x, y, z), the packet longitudinal along [100],
+Δt = 0.005, atoms2pd in 3D; coarse atom at ε x is compared with the MD atom at ε x (y, z folded
+into the MD box: the field is uniform across); the closed form is the lattice sum
+ω²(κ) = Σ_R K_xx(R)(1 − cos κR_x)/M. No homogenised column.
 
 Problem. A periodic 1D Lennard-Jones chain (lj/cut 2.5σ shifted, M = 1, LJ units), N atoms at
 x_i = i·h, h = 2^(1/6)σ (the nearest-neighbour minimum), box [−h/2, Nh − h/2), motion along x
@@ -53,17 +59,22 @@ import matplotlib.pyplot as plt
 import matplotlib.ticker
 
 PDCG = os.environ["PDCG"]
-N = int(os.environ.get("N", "2048"))
+LATTICE = os.environ.get("LATTICE", "chain")  # chain | fcc
+FCC = LATTICE == "fcc"
+assert LATTICE in ("chain", "fcc"), LATTICE
+N = int(os.environ.get("N", "512" if FCC else "2048"))  # lattice planes normal to x (chain: atoms)
+CROSS = int(os.environ.get("CROSS", "1"))  # fcc: cross-section CROSS×CROSS cubic cells, periodic
 EPS = [int(x) for x in os.environ.get("EPS", "1 2 4 8").split()]
-LAM = float(os.environ.get("LAM", "64"))  # carrier wavelength in lattice spacings
+LAM = float(os.environ.get("LAM", "32" if FCC else "64"))  # carrier wavelength in plane spacings
 W = float(os.environ.get("W", "1.5"))  # envelope width in carrier wavelengths
 STRAIN = float(os.environ.get("STRAIN", "1e-3"))
 TRAVEL = float(os.environ.get("TRAVEL", "0.25"))  # distance travelled by the packets, in box lengths
-DT = float(os.environ.get("DT", "0.01"))
+DT = float(os.environ.get("DT", "0.005" if FCC else "0.01"))
 FRAMES = int(os.environ.get("FRAMES", "16"))
 REPEAT = int(os.environ.get("REPEAT", "3"))
 RC, SKIN = 2.5, 2.8  # LJ cutoff; family radius (pairs within 2.5 stay within it: strains ~1e-3)
-H = 2.0 ** (1.0 / 6.0)
+A_FCC = 4.0 ** (1.0 / 3.0)  # fcc at ρ* = 1 (LAMMPS `lattice fcc 1.0`)
+H = A_FCC / 2 if FCC else 2.0 ** (1.0 / 6.0)  # spacing of the planes normal to x
 ENV = dict(os.environ, OMP_NUM_THREADS="1")
 
 
@@ -72,16 +83,40 @@ def phi2(r):
     return 4.0 * (156.0 * r ** -14 - 42.0 * r ** -8)
 
 
-NEIGH = [n for n in range(1, 4) if n * H < RC]  # 1, 2 (3h = 3.37 > r_c)
+def phi1(r):
+    return 4.0 * (-12.0 * r ** -13 + 6.0 * r ** -7)
+
+
+def force_constants():
+    """(R_x, K_xx(R)) of every lattice vector R ≠ 0 within r_c; K_xx = φ''(r) e_x² + φ'(r)/r (1 − e_x²)
+    (pair potential; for a plane wave along x the x-x block is all that couples)."""
+    m = int(RC / H) + 1
+    out = []
+    rng = range(-m, m + 1)
+    for i in rng:
+        for j in (rng if FCC else [0]):
+            for k in (rng if FCC else [0]):
+                if (i, j, k) == (0, 0, 0) or (FCC and (i + j + k) % 2):
+                    continue
+                R = H * np.array([i, j, k], dtype=float)
+                r = float(np.linalg.norm(R))
+                if r < RC:
+                    ex2 = (R[0] / r) ** 2
+                    out.append((R[0], phi2(r) * ex2 + phi1(r) / r * (1 - ex2)))
+    return out
+
+
+FC = force_constants()
 
 
 def omega(k):
-    """Closed form of the longitudinal branch of the LJ chain (M = 1)."""
+    """Closed form of the longitudinal branch along x (M = 1): ω² = Σ_R K_xx(R)(1 − cos κR_x)
+    (Born & Huang; for the chain ω² = 2 Σ_n φ''(nh)(1 − cos nκh))."""
     k = np.asarray(k, dtype=float)
-    return np.sqrt(np.maximum(0.0, 2.0 * sum(phi2(n * H) * (1.0 - np.cos(n * k * H)) for n in NEIGH)))
+    return np.sqrt(np.maximum(0.0, sum(K * (1.0 - np.cos(k * Rx)) for Rx, K in FC)))
 
 
-C_SOUND = math.sqrt(sum(phi2(n * H) * (n * H) ** 2 for n in NEIGH))
+C_SOUND = math.sqrt(sum(K * Rx ** 2 for Rx, K in FC) / 2)
 L = N * H
 K0 = 2 * math.pi / (LAM * H)
 WIDTH = W * LAM * H
@@ -97,15 +132,30 @@ def u0(x):
     return AMP * np.exp(-((x - XC) ** 2) / (2 * WIDTH ** 2)) * np.cos(K0 * (x - XC))
 
 
+def sites(n):
+    """Integer site coordinates (units H) of a lattice of n planes normal to x, in id order."""
+    if not FCC:
+        return np.array([[p, 0, 0] for p in range(n)])
+    basis = [(0, 0, 0), (0, 1, 1), (1, 0, 1), (1, 1, 0)]
+    return np.array([[2 * i + b[0], 2 * jy + b[1], 2 * jz + b[2]] for i in range(n // 2) for jy in range(CROSS)
+                     for jz in range(CROSS) for b in basis])
+
+
 def write_data(path, n, eps, displaced=True):
-    """Chain of n atoms at spacing H carrying u(ε H j)/ε (the coarse chain before rescaling)."""
-    xs = H * np.arange(n) + (u0(eps * H * np.arange(n)) / eps if displaced else 0.0)
+    """Lattice of n planes at spacing H carrying u(ε x)/ε along x (the coarse lattice before rescaling)."""
+    g = sites(n)
+    x = H * g.astype(float)
+    if displaced:
+        x[:, 0] += u0(eps * x[:, 0]) / eps
+    yz = (-0.5 * H, (2 * CROSS - 0.5) * H) if FCC else (-0.5, 0.5)
     with open(path, "w") as f:
-        f.write(f"LJ chain, {n} atoms, eps {eps}\n\n{n} atoms\n1 atom types\n\n")
-        f.write(f"{-0.5 * H:.17g} {n * H - 0.5 * H:.17g} xlo xhi\n-0.5 0.5 ylo yhi\n-0.5 0.5 zlo zhi\n\n")
+        f.write(f"LJ {LATTICE}, {len(g)} atoms, eps {eps}\n\n{len(g)} atoms\n1 atom types\n\n")
+        f.write(f"{-0.5 * H:.17g} {n * H - 0.5 * H:.17g} xlo xhi\n{yz[0]:.17g} {yz[1]:.17g} ylo yhi\n"
+                f"{yz[0]:.17g} {yz[1]:.17g} zlo zhi\n\n")
         f.write("Masses\n\n1 1.0\n\nAtoms # atomic\n\n")
-        for j, x in enumerate(xs):
-            f.write(f"{j + 1} 1 {x:.17g} 0 0\n")
+        for j, p in enumerate(x):
+            f.write(f"{j + 1} 1 {p[0]:.17g} {p[1]:.17g} {p[2]:.17g}\n")
+    return g
 
 
 def pdcg(*args, capture=False):
@@ -139,7 +189,7 @@ def read_dump(path, box_len=None):
 def lammps_run(d):
     deck = f"""units lj
 atom_style atomic
-boundary p f f
+boundary {"p p p" if FCC else "p f f"}
 read_data {d}/atoms.data
 pair_style lj/cut {RC}
 pair_coeff 1 1 1.0 1.0 {RC}
@@ -201,16 +251,17 @@ def main(out):
                          f"pair_coeff 1 1 1.0 1.0 {RC}\npair_modify shift yes\n")
     assert all(N % e == 0 for e in EPS), "N must be divisible by every ε"
     assert max(EPS) * K0 * H < math.pi, "κ₀ must lie inside the coarsest model's zone"
-    print(f"LJ chain N = {N}, h = {H:.6f}, L = {L:.3f}, κ₀h = {K0 * H:.4f} (λ₀ = {LAM:g}h), width {WIDTH:.2f}, "
+    print(f"LJ {LATTICE} N = {N} planes, h = {H:.6f}, L = {L:.3f}, κ₀h = {K0 * H:.4f} (λ₀ = {LAM:g}h), width {WIDTH:.2f}, "
           f"A = {AMP:.4g}, c = {C_SOUND:.5f}, T = {T_END:g} ({STEPS} steps of {DT:g}), {REPEAT} repeats")
 
     # reference: LAMMPS MD of the N atoms
     d = f"{out}/md"
     os.makedirs(d, exist_ok=True)
-    write_data(f"{d}/atoms.data", N, 1)
+    g_md = write_data(f"{d}/atoms.data", N, 1)
+    key_md = {tuple(k): i for i, k in enumerate(g_md)}
     lmp_loop, lmp_wall = lammps_run(d)
     steps_md, x_md = read_dump(f"{d}/md.dump")
-    u_md = x_md - H * np.arange(N)
+    u_md = x_md - H * g_md[:, 0]
     t_frames = steps_md * DT
     print(f"LAMMPS: {STEPS} steps, loop {lmp_loop:.3f} s, wall {lmp_wall:.3f} s")
     w_atoms_closed = float(omega(K0))
@@ -220,9 +271,13 @@ def main(out):
         n = N // eps
         d = f"{out}/eps{eps}"
         os.makedirs(d, exist_ok=True)
-        write_data(f"{d}/atoms.data", n, eps)
+        g = write_data(f"{d}/atoms.data", n, eps)
         write_data(f"{d}/perfect.data", n, eps, displaced=False)
-        common = ["--potential", pot, "--dimension", "1", "--boundary", "p f f", "--family-cutoff", str(SKIN)]
+        # the MD atom at the coarse point's reference position ε x (y, z folded into the MD box)
+        ny = 2 * CROSS if FCC else 1
+        match = np.array([key_md[(eps * a, (eps * b) % ny, (eps * c) % ny)] for a, b, c in g])
+        common = ["--potential", pot, "--family-cutoff", str(SKIN)]
+        common += ["--boundary", "p p p"] if FCC else ["--dimension", "1", "--boundary", "p f f"]
         t0 = time.perf_counter()
         pdcg("atoms2pd", "--input", f"{d}/atoms.data", *common, "-o", f"{d}/delta.h5")
         body = f"{d}/delta.h5"
@@ -232,14 +287,17 @@ def main(out):
         t_build = time.perf_counter() - t0
         # dispersion at κ₀: rescaled perfect chain, and homogenised + rescaled
         pdcg("atoms2pd", "--input", f"{d}/perfect.data", *common, "-o", f"{d}/perfect.h5")
-        pdcg("homogenize", f"{d}/perfect.h5", "--kernel", "wendland-c2", "--width", f"{2 * H:.17g}", "--spacing",
-             f"{H:.17g}", "--shift", "0.5 0 0", "-o", f"{d}/perfect_hom.h5")
         perf, hom = f"{d}/perfect.h5", f"{d}/perfect_hom.h5"
+        if not FCC:  # homogenised chain (fcc: not in this workflow)
+            pdcg("homogenize", perf, "--kernel", "wendland-c2", "--width", f"{2 * H:.17g}", "--spacing",
+                 f"{H:.17g}", "--shift", "0.5 0 0", "-o", hom)
         if eps > 1:
             pdcg("rescale", perf, "--factor", str(eps), "-o", f"{d}/perfect_res.h5")
-            pdcg("rescale", hom, "--factor", str(eps), "-o", f"{d}/perfect_hom_res.h5")
+            if not FCC:
+                pdcg("rescale", hom, "--factor", str(eps), "-o", f"{d}/perfect_hom_res.h5")
             perf, hom = f"{d}/perfect_res.h5", f"{d}/perfect_hom_res.h5"
-        w_model, w_hom = model_omega(perf), model_omega(hom)
+        w_model = model_omega(perf)
+        w_hom = math.nan if FCC else model_omega(hom)
         if eps == 1:
             w_atoms = w_model
         # dynamics
@@ -248,18 +306,20 @@ def main(out):
         md_loop, md_wall = pdcg_md(body, steps, DT * eps, f"{d}/cg.dump", every)
         steps_cg, x_cg = read_dump(f"{d}/cg.dump")
         assert np.allclose(steps_cg * DT * eps, t_frames, rtol=0, atol=1e-9), "frames at different times"
-        u_cg = x_cg - eps * H * np.arange(n)
-        u_ref = u_md[:, ::eps]  # atom εj is the material point of coarse point j
+        u_cg = x_cg - eps * H * g[:, 0]
+        u_ref = u_md[:, match]  # the same material points
         diff = u_cg - u_ref
         e_t = np.linalg.norm(diff, axis=1) / np.linalg.norm(u_ref, axis=1)
         e_rms = float(np.sqrt((diff ** 2).sum() / (u_ref ** 2).sum()))
         # linear theory: the same error for the linearised chains (normal modes)
-        lin = [np.linalg.norm(linear_solution(n, eps, t) - linear_solution(N, 1, t)[::eps]) /
-               np.linalg.norm(linear_solution(N, 1, t)[::eps]) for t in t_frames]
-        lin_md = float(np.linalg.norm(linear_solution(N, 1, T_END) - u_md[-1]) / np.linalg.norm(u_md[-1]))
+        lin = []
+        for t in t_frames:
+            ref = linear_solution(N, 1, t)[eps * g[:, 0]]
+            lin.append(np.linalg.norm(linear_solution(n, eps, t)[g[:, 0]] - ref) / np.linalg.norm(ref))
+        lin_md = float(np.linalg.norm(linear_solution(N, 1, T_END)[g_md[:, 0]] - u_md[-1]) / np.linalg.norm(u_md[-1]))
         curves[eps] = (t_frames, e_t, np.array(lin))
         w_closed = float(omega(eps * K0) / eps)
-        rows.append(dict(eps=eps, points=n, dt=DT * eps, steps=steps, omega_model=w_model, omega_hom=w_hom,
+        rows.append(dict(eps=eps, points=len(g), dt=DT * eps, steps=steps, omega_model=w_model, omega_hom=w_hom,
                          omega_closed=w_closed, omega_atoms=w_atoms, omega_atoms_closed=w_atoms_closed,
                          dispersion_error=abs(w_model - w_atoms) / w_atoms,
                          dispersion_closed_dev=abs(w_model - w_closed) / w_closed,
@@ -269,7 +329,7 @@ def main(out):
                          pdcg_loop=md_loop, pdcg_wall=md_wall, build_wall=t_build,
                          lammps_loop=lmp_loop, lammps_wall=lmp_wall))
         r = rows[-1]
-        print(f"ε = {eps}: {n} points, ω(κ₀) {w_model:.10f} (atoms {w_atoms:.10f}, closed ω(εκ₀)/ε {w_closed:.10f}), "
+        print(f"ε = {eps}: {len(g)} points, ω(κ₀) {w_model:.10f} (atoms {w_atoms:.10f}, closed ω(εκ₀)/ε {w_closed:.10f}), "
               f"dispersion error {r['dispersion_error']:.3e}; displacement error final {r['error_final']:.3e} "
               f"(linear theory {r['error_linear_final']:.3e}), rms {e_rms:.3e}; pdcg md loop {md_loop:.3f} s, "
               f"wall {md_wall:.3f} s")
@@ -293,7 +353,7 @@ def main(out):
         f.write("time," + ",".join(f"error_eps{e},linear_eps{e}" for e in EPS) + "\n")
         for i, t in enumerate(t_frames):
             f.write(f"{t:.10g}," + ",".join(f"{curves[e][1][i]:.10g},{curves[e][2][i]:.10g}" for e in EPS) + "\n")
-    meta = dict(N=N, h=H, L=L, kappa0=K0, kappa0_h=K0 * H, lam_h=LAM, width=WIDTH, amplitude=AMP, strain=STRAIN,
+    meta = dict(lattice=LATTICE, cross=CROSS, atoms=len(g_md), N=N, h=H, L=L, kappa0=K0, kappa0_h=K0 * H, lam_h=LAM, width=WIDTH, amplitude=AMP, strain=STRAIN,
                 c=C_SOUND, t_end=T_END, steps=STEPS, dt=DT, frames=FRAMES, repeat=REPEAT, rows=rows)
     json.dump(meta, open(f"{out}/coarse_graining.json", "w"), indent=1)
 
@@ -309,7 +369,7 @@ def main(out):
     ax[0].xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax[0].set_xticks(EPS, [str(x) for x in EPS])
     ax[0].legend(fontsize=8)
-    ax[0].set_title(f"LJ chain, N = {N}, κ₀h = {K0 * H:.3f}, travel {C_SOUND * T_END / (LAM * H):.1f} λ₀")
+    ax[0].set_title(f"LJ {LATTICE}, {len(g_md)} atoms, κ₀h = {K0 * H:.3f}, travel {C_SOUND * T_END / (LAM * H):.1f} λ₀")
     for eps in EPS:
         t, et, lt = curves[eps]
         ln, = ax[1].semilogy(t[1:], et[1:], "o-", ms=3, label=f"ε = {eps}")
