@@ -81,7 +81,7 @@ if runs:
         if r["first_break_step"] is not None:
             k = r["first_break_step"]
             ax.axvline(lam[k], color=ax.lines[-1].get_color(), lw=0.6, ls=":")
-    for d in sorted(glob.glob(os.path.join(OUT, "edge_c*"))):
+    for d in [d for d in sorted(glob.glob(os.path.join(OUT, "edge_c*"))) if os.path.isdir(d)]:
         R = L.read_reactions(d)
         h = L.spacing(L.read_step(L.result_files(d)[0])["X"])
         ax.plot(1 + grip_u(R["t"]) / grip_length(h), R["top_fy"], "-", lw=0.8,
@@ -117,7 +117,7 @@ if runs:
 
 # ---- Rivlin-Thomas -----------------------------------------------------------------------
 rt = []
-for d in sorted(glob.glob(os.path.join(OUT, "edge_c*"))):
+for d in [d for d in sorted(glob.glob(os.path.join(OUT, "edge_c*"))) if os.path.isdir(d)]:
     c = int(d[-3:]) / 1000.0
     R = L.read_reactions(d)
     h = L.spacing(L.read_step(L.result_files(d)[0])["X"])
