@@ -11,6 +11,7 @@ IMGDIR/rupture_rivlin_thomas.png.
 import glob
 import math
 import os
+import re
 import sys
 
 import matplotlib
@@ -24,11 +25,18 @@ import rupture_lib as L  # noqa: E402
 
 OUT, IMG = sys.argv[1], sys.argv[2]
 os.makedirs(IMG, exist_ok=True)
-U0, DU = 0.1, 0.25  # top grip u_y = 0.1 + 0.25 t (t > 0) in the scenes of this workflow
+def grip_u_of(run_dir):
+    """u_y(t) of the top grip, read from the run's scene.resolved.yaml (0 at t = 0: the
+    unloaded state of row 0 of reactions.csv)."""
+    expr = None
+    for line in open(os.path.join(run_dir, "scene.resolved.yaml")):
+        m = re.search(r"name: top,.*displacement: \{y: \"?([^}\"]*)\"?\}", line)
+        if m:
+            expr = m.group(1).replace("^", "**")
+    return lambda t: np.where(t > 0, eval(expr, {"t": np.asarray(t, float), "sqrt": np.sqrt,
+                                                 "pi": np.pi}), 0.0)
 
 
-def grip_u(t):
-    return np.where(t > 0, U0 + DU * t, 0.0)
 lines = []
 
 
@@ -45,6 +53,9 @@ runs = {}
 if os.path.isdir(os.path.join(OUT, "edge")):
     runs["edge"] = L.analyse(os.path.join(OUT, "edge"), tip=(0.3, 0.5), y_line=0.5,
                              grip_length=None)
+if os.path.isdir(os.path.join(OUT, "edge_path2")):
+    runs["edge_path2"] = L.analyse(os.path.join(OUT, "edge_path2"), tip=(0.3, 0.5), y_line=0.5,
+                                   grip_length=None)
 if os.path.isdir(os.path.join(OUT, "centre")):
     runs["centre"] = L.analyse(os.path.join(OUT, "centre"), tip=(2.0 / 3.0, 0.5), y_line=0.5,
                                grip_length=None, tip2=(1.0 / 3.0, 0.5))
@@ -52,7 +63,7 @@ if os.path.isdir(os.path.join(OUT, "centre")):
 say("# Rubber sheet rupture (plane stress Neo-Hookean mu = 1, K = 100, bond_stretch 2.0)")
 for name, r in runs.items():
     h = r["h"]
-    lam = 1 + grip_u(r["t"]) / grip_length(h)
+    lam = 1 + grip_u_of(r["dir"])(r["t"]) / grip_length(h)
     say(f"\n## {name}: {os.path.abspath(r['dir'])}")
     say(f"spacing h = {h:.4g}, horizon delta = {3.015 * h:.4g}, steps written = {len(r['t']) - 1}, "
         f"last load factor = {r['t'][-1]:.4g} (stretch {lam[-1]:.4f})")
@@ -76,7 +87,7 @@ for name, r in runs.items():
 if runs:
     fig, ax = plt.subplots(figsize=(5.5, 4))
     for name, r in runs.items():
-        lam = 1 + grip_u(r["t"]) / grip_length(r["h"])
+        lam = 1 + grip_u_of(r["dir"])(r["t"]) / grip_length(r["h"])
         ax.plot(lam, r["force"], "o-", ms=3, label=f"{name} pre-crack")
         if r["first_break_step"] is not None:
             k = r["first_break_step"]
@@ -84,7 +95,7 @@ if runs:
     for d in [d for d in sorted(glob.glob(os.path.join(OUT, "edge_c*"))) if os.path.isdir(d)]:
         R = L.read_reactions(d)
         h = L.spacing(L.read_step(L.result_files(d)[0])["X"])
-        ax.plot(1 + grip_u(R["t"]) / grip_length(h), R["top_fy"], "-", lw=0.8,
+        ax.plot(1 + grip_u_of(d)(R["t"]) / grip_length(h), R["top_fy"], "-", lw=0.8,
                 label=f"edge c = {int(d[-3:]) / 1000:.2f}")
     ax.set_xlabel("grip stretch  1 + u_top / L")
     ax.set_ylabel("top grip force (per unit thickness)")
@@ -125,11 +136,11 @@ for d in [d for d in sorted(glob.glob(os.path.join(OUT, "edge_c*"))) if os.path.
     if k is None:
         say(f"\nedge c = {c}: no bond broke up to t = {R['t'][-1]}")
         continue
-    lam_lo = 1 + grip_u(R["t"][k - 1]) / grip_length(h)
-    lam_hi = 1 + grip_u(R["t"][k]) / grip_length(h)
+    lam_lo = 1 + grip_u_of(d)(R["t"][k - 1]) / grip_length(h)
+    lam_hi = 1 + grip_u_of(d)(R["t"][k]) / grip_length(h)
     # the peak load marks the onset of running growth (the first bonds break stably)
     kp = int(np.argmax(R["top_fy"]))
-    lam_pk = 1 + grip_u(R["t"][kp]) / grip_length(h)
+    lam_pk = 1 + grip_u_of(d)(R["t"][kp]) / grip_length(h)
     lam_c = 0.5 * (lam_lo + lam_hi)
     rt.append((c, lam_lo, lam_hi, lam_c, L.rivlin_thomas_T(lam_c, c), lam_pk,
                L.rivlin_thomas_T(lam_pk, c), kp == len(R["t"]) - 1))

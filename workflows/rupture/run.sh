@@ -7,7 +7,7 @@
 # Environment: SPACING (default 0.05), STEPS (default 25), RUN_TIMEOUT seconds per run
 #   (default 150: a run whose re-equilibrium falls back to adaptive dynamic relaxation can
 #   spend long there; the analysis uses every step written before), IMG (default docs/img),
-#   CASES (default "edge centre edge_c200 edge_c400").
+#   CASES (default "edge centre edge_c200 edge_c400"; also edge_path2, see below).
 # Each run's HDF5 + XDMF damage series is in OUT/<case>/results.xdmf (ParaView: open it,
 # colour by "damage").
 set -uo pipefail
@@ -31,6 +31,9 @@ scene edge edge
 scene centre centre
 scene edge edge_c200 0.2
 scene edge edge_c400 0.4
+# the edge scene on another load path: 0.02 per step from 0 (reaches the running crack at
+# u_y = 0.34 after one ADR rescue at 0.28, ~5 min here; not in the default CASES)
+sed -e 's/"0.1 + 0.25\*t"/"0.5*t"/' "$OUT/edge.yaml" >"$OUT/edge_path2.yaml"
 for c in ${CASES:-edge centre edge_c200 edge_c400}; do
   rm -rf "${OUT:?}/$c"
   start=$(date +%s)
