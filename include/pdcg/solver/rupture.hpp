@@ -51,6 +51,7 @@ struct RupturePass {
   double max_value = 0.0;    ///< largest criterion value over the intact bonds
   std::size_t rebuilt = 0;   ///< stencils rebuilt
   std::size_t anchored = 0;  ///< points no stencil couples any more
+  std::size_t inverted = 0;  ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
 };
 
 class Rupture {
@@ -84,6 +85,9 @@ class Rupture {
 
  private:
   void update_anchors(const Eigen::VectorXd& u);
+  /// Breaks every intact bond whose (rebuilt) BA stencil gives an inadmissible F (J ≤ 0)
+  /// at u; returns how many.
+  std::size_t break_inverted(const Eigen::VectorXd& u);
   Discretization* body_;
   Model* model_;
   RuptureOptions opt_;
