@@ -195,7 +195,7 @@ def plot_plate(rows, png, args):
     for ax, key, label in ((axes[0], "wall_s", "wall time per run [s]"),
                            (axes[1], "peak_rss_MiB", "peak memory [MiB]")):
         for m in args.factors:
-            pts = [r for r in rows if r["method"] == "pdcg-BA" and r["m"] == m and r["status"] == "ok"]
+            pts = [r for r in rows if r["method"].startswith("pdcg-BA") and r["m"] == m and r["status"] == "ok"]
             ax.plot([r[key] for r in pts], [r["rel_error"] for r in pts], "-", color=colors.get(m, "k"),
                     alpha=0.5)
             for r in pts:
@@ -208,6 +208,8 @@ def plot_plate(rows, png, args):
             fr = sorted([r for r in rows if r.get("pareto") == 1], key=lambda r: r["wall_s"])
             ax.plot([r["wall_s"] for r in fr], [max(r["rel_error"], 1e-12) for r in fr], "r--", lw=1,
                     label="Pareto front")
+        if not ax.has_data():
+            continue
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel(label)
@@ -325,7 +327,7 @@ def replot(args):
     if os.path.exists(p):
         head, rows = load(p)
         args.d = float(re.search(r"d = ([0-9.e+-]+)", head).group(1))
-        args.factors = sorted({r["m"] for r in rows if r["method"] == "pdcg-BA"})
+        args.factors = sorted({r["m"] for r in rows if r["method"].startswith("pdcg-BA")})
         plot_plate(rows, os.path.join(args.out, "accuracy_plate_hole.png"), args)
     p = os.path.join(args.out, "accuracy_nonlinear.csv")
     if os.path.exists(p):
