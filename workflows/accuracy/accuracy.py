@@ -350,7 +350,7 @@ def main():
     ap.add_argument("--d", type=float, default=0.05)
     ap.add_argument("--steps", type=int, default=1)
     ap.add_argument("--tol", type=float, default=1e-8)
-    ap.add_argument("--timeout", type=float, default=300, help="seconds per pdcg run before it is "
+    ap.add_argument("--timeout", type=float, default=240, help="seconds per pdcg run before it is "
                     "stopped and reported as too slow")
     ap.add_argument("--fem-levels", nargs="*", type=int, default=[6, 12, 24, 48])
     ap.add_argument("--nl-spacing", type=float, default=0.05)

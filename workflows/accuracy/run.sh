@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Accuracy against cost (issue 9 §1 items 1 and 4): one command, CSV + PNG per item, summary in
 # docs/accuracy-cost.md.
-#   workflows/accuracy/run.sh [OUT=build/accuracy]      (~10-15 min on a shared 2-core machine)
+#   workflows/accuracy/run.sh [OUT=build/accuracy]   (~33 min measured at load 15-20 on the shared
+#     2-core machine, 10 of them the three dx = 0.0125 runs; --spacings 0.05 0.025 for < 15 min)
 #   SMOKE=1 workflows/accuracy/run.sh OUT               (seconds; what ctest runs)
 # Extra arguments after OUT go to accuracy.py (e.g. --spacings 0.05 0.025 --parts plate).
 # Needs python3-numpy, python3-scipy (FEM curve), python3-matplotlib (Debian 12).
