@@ -54,6 +54,14 @@ struct NewtonOptions {
   int max_cutbacks = 10;    ///< halvings of the nominal step
   bool line_search = true;
   LinearSolver linear = LinearSolver::umfpack;
+  /// After every converged step, count the negative eigenvalues of the free-dof tangent
+  /// (of its symmetric part for the unsymmetric weak form) by the inertia of a sparse
+  /// LDLᵀ (Sylvester); a negative one means the equilibrium just found is unstable
+  /// (buckling, limit point): the step is undone and NumericalError thrown with that
+  /// diagnosis. Off by default (one extra factorisation per step). Independently of this
+  /// option, a run that fails after all cutbacks reports the inertia of the tangent at
+  /// the last converged state in its error message.
+  bool check_stability = false;
 };
 
 struct StepReport {
@@ -65,6 +73,9 @@ struct StepReport {
   int cutbacks = 0;               ///< cutbacks spent on this step
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
+  /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
+  /// not checked, −2 if the LDLᵀ met a zero pivot (singular tangent).
+  int negative_eigenvalues = -1;
 };
 
 class StaticSolver {
@@ -111,6 +122,8 @@ class StaticSolver {
  private:
   void external_force(double t, Eigen::VectorXd& fext) const;
   bool newton(double t_target, StepReport& rep);
+  /// Negative eigenvalues of the free block of K_ (symmetric part), −2 if singular.
+  int tangent_inertia();
 
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
