@@ -118,7 +118,7 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
     throw c.err(m, "material.file", "missing key")
         .expected("the pdcg model file, e.g. file: res.h5 (relative to the scene file)");
   std::filesystem::path f = c.text(m["file"], "material.file");
-  if (f.is_relative()) f = scene_file.parent_path() / f;
+  if (f.is_relative()) f = std::filesystem::absolute(scene_file.parent_path() / f);
   s.material_file = f;
   std::shared_ptr<const body::Body> b;
   try {
