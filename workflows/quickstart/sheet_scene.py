@@ -45,7 +45,7 @@ boundary:
   - {{name: bottom, region: {{y_max: {dx / 2:.12g}}}, displacement: {{x: 0.0, y: 0.0}}}}
   - {{name: top, region: {{y_min: {H - dx / 2:.12g}}}, displacement: {{x: 0.0, y: "{strain_max * L0:.12g}*t"}}}}
 loading: {{steps: {steps}}}
-solver: {{type: newton, tolerance: 1.0e-8, max_iterations: 30, linear: umfpack}}
+solver: {{type: newton, tolerance: 1.0e-8, max_iterations: 30, linear: lu}}
 effects: [rupture]
 rupture: {{criterion: bond_stretch, critical: {lam_c:.12g}}}
 output: {{directory: pd, every: 1}}
