@@ -12,6 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include "pdcg/body/cauchy_born_material.hpp"
+#include "pdcg/body/model_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/progress.hpp"
@@ -102,6 +104,48 @@ std::function<double(double)> value_fn(const Ctx& c, const YAML::Node& n, const 
     return parse_expression(text, key);
   } catch (InputError& e) {
     throw e.source(c.file).line(n.Mark().line + 1);
+  }
+}
+
+// `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
+// read here once so that a bad file, a statistical body or a dimension mismatch is an input
+// error of the scene (with its line), not a failure at run time.
+void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::path& scene_file,
+                      Scene& s) {
+  for (const char* k : {"shear_modulus", "bulk_modulus"})
+    if (m[k])
+      throw c
+          .err(m[k], std::string("material.") + k,
+               "the Cauchy–Born material takes its moduli from the model file")
+          .fix(fmt::format("remove material.{}", k));
+  if (!m["file"])
+    throw c.err(m, "material.file", "missing key")
+        .expected("the pdcg model file, e.g. file: res.h5 (relative to the scene file)");
+  std::filesystem::path f = c.text(m["file"], "material.file");
+  if (f.is_relative()) f = std::filesystem::absolute(scene_file.parent_path() / f);
+  s.material_file = f;
+  std::shared_ptr<const body::Body> b;
+  try {
+    b = std::make_shared<const body::Body>(body::read_body(f));
+    body::CauchyBornMaterial probe(b, f.string());  // refuses statistical bodies
+    (void)probe;
+  } catch (InputError& e) {
+    throw e.line(m["file"].Mark().line + 1).key("material.file");
+  }
+  if (b->dimension != s.dimension)
+    throw c.err(m["file"], "material.file", "the model's dimension differs from the scene's")
+        .value(fmt::format("a {}D model in a {}D scene", b->dimension, s.dimension))
+        .fix(fmt::format("set dimension: {} (a 2D model is its own areal plane-strain "
+                         "material; a 3D model needs a 3D scene)",
+                         b->dimension));
+  if (s.dimension == 2 && s.plane != "strain")
+    throw c.err(m, "plane", "a 2D Cauchy–Born model is a plane-strain (areal) material")
+        .value(s.plane)
+        .fix("set plane: strain");
+  if (!m["density"]) {
+    double mass = 0;
+    for (double v : b->mass) mass += v;
+    s.density = mass / b->reference_volume();
   }
 }
 
@@ -220,20 +264,30 @@ Scene load_scene(const std::filesystem::path& file) {
   }
   // material
   if (const auto m = root["material"]) {
-    c.keys(m, "material", {"model", "shear_modulus", "bulk_modulus", "density"});
-    if (m["model"]) c.choice(m["model"], "material.model", {"neo-hookean"});
-    if (m["shear_modulus"])
-      s.shear_modulus = c.number(m["shear_modulus"], "material.shear_modulus");
-    if (m["bulk_modulus"]) s.bulk_modulus = c.number(m["bulk_modulus"], "material.bulk_modulus");
+    c.keys(m, "material", {"model", "shear_modulus", "bulk_modulus", "density", "file"});
+    if (m["model"])
+      s.material_model = c.choice(m["model"], "material.model", {"neo-hookean", "cauchy-born"});
     if (m["density"]) s.density = c.number(m["density"], "material.density");
-    if (!(s.shear_modulus > 0) || !(s.bulk_modulus > 0))
-      throw c.err(m, "material", "moduli must be positive")
-          .value(fmt::format("mu = {}, K = {}", s.shear_modulus, s.bulk_modulus));
+    if (s.material_model == "cauchy-born") {
+      load_cauchy_born(c, m, file, s);
+    } else {
+      if (m["file"])
+        throw c.err(m["file"], "material.file", "a model file is for the Cauchy–Born material")
+            .fix("remove material.file, or set material.model: cauchy-born");
+      if (m["shear_modulus"])
+        s.shear_modulus = c.number(m["shear_modulus"], "material.shear_modulus");
+      if (m["bulk_modulus"]) s.bulk_modulus = c.number(m["bulk_modulus"], "material.bulk_modulus");
+      if (!(s.shear_modulus > 0) || !(s.bulk_modulus > 0))
+        throw c.err(m, "material", "moduli must be positive")
+            .value(fmt::format("mu = {}, K = {}", s.shear_modulus, s.bulk_modulus));
+    }
   } else {
     throw InputError("missing section")
         .source(c.file)
         .key("material")
-        .expected("material: {model: neo-hookean, shear_modulus, bulk_modulus}");
+        .expected(
+            "material: {model: neo-hookean, shear_modulus, bulk_modulus} or "
+            "{model: cauchy-born, file: model.h5}");
   }
   // boundary
   const auto b = root["boundary"];
@@ -589,9 +643,13 @@ std::string resolved_yaml(const Scene& s) {
     y << YAML::Key << "factor" << YAML::Value << s.horizon_factor;
   y << YAML::EndMap;
   y << YAML::Key << "material" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-    << "model" << YAML::Value << "neo-hookean" << YAML::Key << "shear_modulus" << YAML::Value
-    << s.shear_modulus << YAML::Key << "bulk_modulus" << YAML::Value << s.bulk_modulus << YAML::Key
-    << "density" << YAML::Value << s.density << YAML::EndMap;
+    << "model" << YAML::Value << s.material_model;
+  if (s.material_model == "cauchy-born")
+    y << YAML::Key << "file" << YAML::Value << s.material_file.string();
+  else
+    y << YAML::Key << "shear_modulus" << YAML::Value << s.shear_modulus << YAML::Key
+      << "bulk_modulus" << YAML::Value << s.bulk_modulus;
+  y << YAML::Key << "density" << YAML::Value << s.density << YAML::EndMap;
   y << YAML::Key << "boundary" << YAML::Value << YAML::BeginSeq;
   const char* axes[3] = {"x", "y", "z"};
   for (const auto& bc : s.boundary) {
@@ -1092,6 +1150,15 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
 
 }  // namespace
 
+std::unique_ptr<solver::Material> make_material(const Scene& s) {
+  if (s.material_model == "cauchy-born")
+    return body::CauchyBornMaterial::from_file(s.material_file);
+  const auto kin = s.dimension == 3      ? solver::Kinematics::three_d
+                   : s.plane == "stress" ? solver::Kinematics::plane_stress
+                                         : solver::Kinematics::plane_strain;
+  return solver::make_neo_hookean({s.shear_modulus, s.bulk_modulus}, kin);
+}
+
 void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_override) {
   RunOptions o;
   o.output = out_override;
@@ -1114,10 +1181,8 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   dopt.horizon = s.horizon_value;
   auto body = solver::Discretization::grid(s.geometry, dopt);
   log::info("body: {} points, spacing {}, horizon {}", body.size(), body.spacing(), body.horizon());
-  const auto kin = s.dimension == 3      ? solver::Kinematics::three_d
-                   : s.plane == "stress" ? solver::Kinematics::plane_stress
-                                         : solver::Kinematics::plane_strain;
-  const auto material = solver::make_neo_hookean({s.shear_modulus, s.bulk_modulus}, kin);
+  const auto material = make_material(s);
+  log::info("material: {}", material->name());
   solver::Model model(body, *material, s.model);
   std::vector<solver::DisplacementSet> dsets;
   std::vector<solver::TractionSet> tsets;

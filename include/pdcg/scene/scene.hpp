@@ -11,6 +11,8 @@
 ///              0.5]}]}
 ///   horizon: {factor: 3.015}            # or {value: 0.075}
 ///   material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+///   # or the Cauchy–Born material of a pdcg model file (docs/elastic.md §6):
+///   # material: {model: cauchy-born, file: res.h5}   # path relative to the scene file
 ///   boundary:
 ///     - {name: left,  region: {x_max: 0.0},  displacement: {x: 0.0}}
 ///     - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}
@@ -39,12 +41,14 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pdcg/core/units.hpp"
 #include "pdcg/solver/discretization.hpp"
+#include "pdcg/solver/material.hpp"
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
 #include "pdcg/solver/rupture.hpp"
@@ -72,6 +76,10 @@ struct Scene {
   solver::GridSpec geometry;
   double horizon_factor = 3.015, horizon_value = 0.0;
   double shear_modulus = 1.0, bulk_modulus = 10.0, density = 1.0;
+  /// `material.model`: "neo-hookean" or "cauchy-born" (then `material_file` is the pdcg-body
+  /// file, resolved against the scene file's directory, and density defaults to Σ M_k / V₀).
+  std::string material_model = "neo-hookean";
+  std::filesystem::path material_file;
   std::vector<BoundaryCondition> boundary;
   int steps = 20;
   solver::NewtonOptions newton;
@@ -113,6 +121,11 @@ const std::vector<std::string>& valid_effects();
 
 /// Reads and validates a scene file. Throws InputError naming file, line and key.
 Scene load_scene(const std::filesystem::path& file);
+
+/// The material the solver uses for this scene: the Neo-Hookean law of the given moduli
+/// (plane strain / plane stress / 3D), or the Cauchy–Born material of the model file
+/// (body::CauchyBornMaterial; a 2D model is its own areal, plane-strain material).
+std::unique_ptr<solver::Material> make_material(const Scene& s);
 
 /// The fully resolved scene as YAML (every default written out).
 std::string resolved_yaml(const Scene& s);
