@@ -1,13 +1,12 @@
 #include "pdcg/dynamics/dynamics.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include <omp.h>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/atomic_output.hpp"
@@ -22,7 +21,9 @@ void check_masses(const body::Body& body, const std::string& source) {
     throw InputError("the body has no masses")
         .source(source)
         .expected("one mass per point")
-        .fix("give masses (`mass` commands or a Masses section) when building the body with atoms2pd");
+        .fix(
+            "give masses (`mass` commands or a Masses section) when building the body with "
+            "atoms2pd");
   for (size_t k = 0; k < body.size(); ++k)
     if (!(std::isfinite(body.mass[k]) && body.mass[k] > 0.0))
       throw InputError("missing or non-positive mass")
@@ -30,7 +31,9 @@ void check_masses(const body::Body& body, const std::string& source) {
           .key(fmt::format("atom id {}", body.id[k]))
           .value(fmt::format("{}", body.mass[k]))
           .expected("a finite positive mass for every point")
-          .fix("set the masses of all types when building the body (`mass` commands or a Masses section)");
+          .fix(
+              "set the masses of all types when building the body (`mass` commands or a Masses "
+              "section)");
 }
 
 StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
@@ -40,7 +43,8 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
   std::vector<double> bonds(3 * fam.bonds());
   atomistic::deformed_bonds(fam, y.empty() ? std::span<const double>(body.x) : y, fam.h, bonds);
   std::int64_t max_family = 0;
-  for (size_t k = 0; k < n; ++k) max_family = std::max(max_family, fam.offset[k + 1] - fam.offset[k]);
+  for (size_t k = 0; k < n; ++k)
+    max_family = std::max(max_family, fam.offset[k + 1] - fam.offset[k]);
   const auto& pot = *body.potential;
   // row[i]: Σ_k Σ_l |H⁽ᵏ⁾_il| for the 3N dofs. Families scatter into their neighbours' rows,
   // so each thread accumulates its own copy (computed once per run: memory 3N per thread).
@@ -57,7 +61,8 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
       const auto m = fam.offset[static_cast<size_t>(k) + 1] - b0;
       if (m == 0) continue;
       const size_t nm = static_cast<size_t>(m);
-      for (size_t j = 0; j < nm; ++j) ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
+      for (size_t j = 0; j < nm; ++j)
+        ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
       atomistic::FamilyState st;
       st.type = body.type[static_cast<size_t>(k)];
       st.size = m;
@@ -142,16 +147,21 @@ void require_stable_time_step(double dt, const StableStep& limit, bool force) {
   throw InputError("time step above the stable limit")
       .key("dt")
       .value(fmt::format("{:.6g}", dt))
-      .expected(fmt::format("dt <= {:.6g} = 2/ω_bound (Gershgorin bound ω_bound = {:.6g} at atom id {}; "
-                            "the requested dt is {:.4g}× the limit)",
-                            limit.dt_stable, limit.omega_bound, limit.critical_id, dt / limit.dt_stable))
+      .expected(
+          fmt::format("dt <= {:.6g} = 2/ω_bound (Gershgorin bound ω_bound = {:.6g} at atom id {}; "
+                      "the requested dt is {:.4g}× the limit)",
+                      limit.dt_stable, limit.omega_bound, limit.critical_id, dt / limit.dt_stable))
       .fix("use a smaller time step, or --force-unstable to run anyway");
 }
 
-std::vector<double> thermal_velocities(const body::Body& body, double temperature, std::uint64_t seed) {
+std::vector<double> thermal_velocities(const body::Body& body, double temperature,
+                                       std::uint64_t seed) {
   check_masses(body, "body");
   if (!(temperature >= 0.0) || !std::isfinite(temperature))
-    throw InputError("bad temperature").key("temperature").value(fmt::format("{}", temperature)).expected("T >= 0");
+    throw InputError("bad temperature")
+        .key("temperature")
+        .value(fmt::format("{}", temperature))
+        .expected("T >= 0");
   const size_t n = body.size();
   const int d = std::clamp(body.dimension, 1, 3);
   std::vector<double> v(3 * n, 0.0);
@@ -197,7 +207,8 @@ std::vector<double> velocities_from_atoms(const body::Body& body, const atomisti
   // both sorted by id
   std::vector<size_t> order(atoms.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return atoms.id[a] < atoms.id[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return atoms.id[a] < atoms.id[b]; });
   std::vector<double> v(3 * body.size());
   for (size_t k = 0; k < body.size(); ++k) {
     const size_t i = order[k];
@@ -207,21 +218,27 @@ std::vector<double> velocities_from_atoms(const body::Body& body, const atomisti
           .key("id")
           .value(std::to_string(atoms.id[i]))
           .expected(fmt::format("id {}", body.id[k]));
-    for (int a = 0; a < 3; ++a) v[3 * k + static_cast<size_t>(a)] = atoms.v[3 * i + static_cast<size_t>(a)];
+    for (int a = 0; a < 3; ++a)
+      v[3 * k + static_cast<size_t>(a)] = atoms.v[3 * i + static_cast<size_t>(a)];
   }
   return v;
 }
 
-VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt)
+VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0,
+                               std::vector<double> v0, double dt)
     : body_(body), ev_(body), y_(std::move(y0)), v_(std::move(v0)), dt_(dt) {
   check_masses(body, "body");
   if (!(dt > 0.0) || !std::isfinite(dt))
-    throw InputError("bad time step").key("dt").value(fmt::format("{}", dt)).expected("a positive number");
+    throw InputError("bad time step")
+        .key("dt")
+        .value(fmt::format("{}", dt))
+        .expected("a positive number");
   const size_t n = body.size();
   if (y_.empty()) y_ = body.x;
   if (v_.empty()) v_.assign(3 * n, 0.0);
   if (y_.size() != 3 * n || v_.size() != 3 * n)
-    throw InputError("positions/velocities do not match the body").expected(fmt::format("3×{} values", n));
+    throw InputError("positions/velocities do not match the body")
+        .expected(fmt::format("3×{} values", n));
   const auto uc = unit_constants(body.units);
   ftm2v_ = uc.ftm2v;
   mvv2e_ = uc.mvv2e;
@@ -230,11 +247,16 @@ VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0, s
   for (size_t k = 0; k < n; ++k) inv_mass_[k] = 1.0 / body.mass[k];
   f_.resize(3 * n);
   half_ = body.potential->pairwise() && !body.statistics;
-  if (half_) setup_pairwise();
+  if (!body.statistics) eam_ = body.potential->eam_view();
+  if (eam_ && (eam_->ntypes < 1 || std::any_of(body.type.begin(), body.type.end(), [&](int t) {
+                 return t < 1 || t > eam_->ntypes || !eam_->frho[static_cast<size_t>(t)];
+               })))
+    eam_ = nullptr;  // the general path reports the bad type (NaN force states)
+  if (half_ || eam_) setup_half();
   evaluate();
 }
 
-void VelocityVerlet::setup_pairwise() {
+void VelocityVerlet::setup_half() {
   const auto& fam = body_.families;
   const size_t n = body_.size();
   half_offset_.assign(n + 1, 0);
@@ -246,7 +268,8 @@ void VelocityVerlet::setup_pairwise() {
       if (!(j > k || (j == k && fam.reverse[ub] > b))) continue;  // the other half holds it
       half_neighbor_.push_back(fam.neighbor[ub]);
       half_type_.push_back(body_.type[j]);
-      const Eigen::Vector3d s = fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
+      const Eigen::Vector3d s =
+          fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
       half_shift_.insert(half_shift_.end(), {s[0], s[1], s[2]});
       if (!fam.pair_factor.empty()) half_factor_.push_back(fam.pair_factor[ub]);
       if (!fam.bond_type.empty()) half_bond_type_.push_back(fam.bond_type[ub]);
@@ -256,8 +279,150 @@ void VelocityVerlet::setup_pairwise() {
   }
   const int threads = omp_get_max_threads();
   thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * n));
-  thread_y_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
-  thread_t_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  thread_y_.assign(static_cast<size_t>(threads),
+                   std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  thread_t_.assign(static_cast<size_t>(threads),
+                   std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  if (eam_) {
+    thread_rho_.assign(static_cast<size_t>(threads), std::vector<double>(n));
+    rho_.assign(n, 0.0);
+    fp_.assign(n, 0.0);
+  }
+}
+
+void VelocityVerlet::evaluate_eam() {
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const atomistic::EamView& E = *eam_;
+  const int n1 = E.ntypes + 1;
+  const int nr1 = E.nr - 1, nrho1 = E.nrho - 1;
+  const double rdr = E.rdr, rdrho = E.rdrho, rhomax = E.rhomax, cutsq = E.cutforcesq;
+  const double* const* rhor = E.rhor.data();
+  const double* const* z2r = E.z2r.data();
+  const double* const* frho = E.frho.data();
+  const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
+  const double* y = y_.data();
+  const int* type = body_.type.data();
+  const std::int64_t* off = half_offset_.data();
+  const std::int32_t* nb = half_neighbor_.data();
+  const int* nbt = half_type_.data();
+  const double* sh = half_shift_.data();
+  const double* fac = half_factor_.empty() ? nullptr : half_factor_.data();
+  double* rho = rho_.data();
+  double* fp = fp_.data();
+  double energy = 0.0;
+#pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
+  {
+    const auto tid = static_cast<size_t>(omp_get_thread_num());
+    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+    double* trho = used == 1 ? rho : thread_rho_[tid].data();
+    double* f = used == 1 ? f_.data() : thread_f_[tid].data();
+    std::fill(trho, trho + n, 0.0);
+    std::fill(f, f + 3 * n, 0.0);
+    // pass 1: ρ̄ (PairEAM::compute, density of j at k and of k at j from one distance)
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
+      const int kt = type[k];
+      double rk = 0.0;
+      for (std::int64_t b = off[k]; b < off[k + 1]; ++b) {
+        if (fac && fac[b] == 0.0) continue;  // LAMMPS excludes these pairs
+        const std::int64_t j = nb[b];
+        const double dx = y[3 * j] - xk + sh[3 * b], dy = y[3 * j + 1] - yk + sh[3 * b + 1],
+                     dz = y[3 * j + 2] - zk + sh[3 * b + 2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq < cutsq) {
+          const int jt = nbt[b];
+          double p = std::sqrt(rsq) * rdr + 1.0;
+          int m = static_cast<int>(p);
+          m = std::min(m, nr1);
+          p -= m;
+          p = std::min(p, 1.0);
+          const double* c = rhor[jt * n1 + kt] + 7 * m;
+          rk += ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+          const double* d = rhor[kt * n1 + jt] + 7 * m;
+          trho[j] += ((d[3] * p + d[4]) * p + d[5]) * p + d[6];
+        }
+      }
+      trho[k] += rk;
+    }
+    // pass 2: ρ̄ summed over the thread copies, F(ρ̄) and F'(ρ̄) (linear beyond ρ_max)
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      double r = rho[k];
+      if (used > 1) {
+        r = 0.0;
+        for (int th = 0; th < used; ++th)
+          r += thread_rho_[static_cast<size_t>(th)][static_cast<size_t>(k)];
+        rho[k] = r;
+      }
+      double p = r * rdrho + 1.0;
+      int m = static_cast<int>(p);
+      m = std::max(1, std::min(m, nrho1));
+      p -= m;
+      p = std::min(p, 1.0);
+      const double* c = frho[type[k]] + 7 * m;
+      fp[k] = (c[0] * p + c[1]) * p + c[2];
+      double phi = ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+      if (r > rhomax) phi += fp[k] * (r - rhomax);
+      energy += phi;
+    }
+    // pass 3: pair forces and energies
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
+      const int kt = type[k];
+      const double fpk = fp[k];
+      double fx = 0.0, fy = 0.0, fz = 0.0, e = 0.0;
+      for (std::int64_t b = off[k]; b < off[k + 1]; ++b) {
+        if (fac && fac[b] == 0.0) continue;
+        const std::int64_t j = nb[b];
+        const double dx = y[3 * j] - xk + sh[3 * b], dy = y[3 * j + 1] - yk + sh[3 * b + 1],
+                     dz = y[3 * j + 2] - zk + sh[3 * b + 2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq < cutsq) {
+          const int jt = nbt[b];
+          const double r = std::sqrt(rsq);
+          double p = r * rdr + 1.0;
+          int m = static_cast<int>(p);
+          m = std::min(m, nr1);
+          p -= m;
+          p = std::min(p, 1.0);
+          const double* c1 = rhor[jt * n1 + kt] + 7 * m;
+          const double rhojp = (c1[0] * p + c1[1]) * p + c1[2];
+          const double* c2 = rhor[kt * n1 + jt] + 7 * m;
+          const double rhokp = (c2[0] * p + c2[1]) * p + c2[2];
+          const double* c3 = z2r[kt * n1 + jt] + 7 * m;
+          const double z2p = (c3[0] * p + c3[1]) * p + c3[2];
+          const double z2 = ((c3[3] * p + c3[4]) * p + c3[5]) * p + c3[6];
+          const double recip = 1.0 / r;
+          const double phi = z2 * recip;
+          const double phip = z2p * recip - phi * recip;
+          const double s = (fpk * rhojp + fp[j] * rhokp + phip) * recip;
+          e += phi;
+          fx += s * dx;
+          fy += s * dy;
+          fz += s * dz;
+          f[3 * j] -= s * dx;
+          f[3 * j + 1] -= s * dy;
+          f[3 * j + 2] -= s * dz;
+        }
+      }
+      f[3 * k] += fx;
+      f[3 * k + 1] += fy;
+      f[3 * k + 2] += fz;
+      energy += e;
+    }
+    if (used > 1) {
+#pragma omp for schedule(static)
+      for (std::int64_t i = 0; i < 3 * n; ++i) {
+        double s = 0.0;
+        for (int th = 0; th < used; ++th)
+          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+        f_[static_cast<size_t>(i)] = s;
+      }
+    }
+  }
+  potential_ = energy;
 }
 
 void VelocityVerlet::evaluate_pairwise() {
@@ -282,7 +447,8 @@ void VelocityVerlet::evaluate_pairwise() {
       for (std::int64_t q = 0; q < m; ++q) {
         const auto b = static_cast<size_t>(b0 + q);
         const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
-        for (int a = 0; a < 3; ++a) Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
+        for (int a = 0; a < 3; ++a)
+          Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
       }
       atomistic::FamilyState st;
       st.type = body_.type[static_cast<size_t>(k)];
@@ -308,7 +474,8 @@ void VelocityVerlet::evaluate_pairwise() {
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < 3 * n; ++i) {
       double s = 0.0;
-      for (int th = 0; th < used; ++th) s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+      for (int th = 0; th < used; ++th)
+        s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
       f_[static_cast<size_t>(i)] = s;
     }
   }
@@ -316,6 +483,10 @@ void VelocityVerlet::evaluate_pairwise() {
 }
 
 void VelocityVerlet::evaluate() {
+  if (eam_) {
+    evaluate_eam();
+    return;
+  }
   if (half_) {
     evaluate_pairwise();
     return;
@@ -365,7 +536,8 @@ Thermo VelocityVerlet::thermo() const {
   t.kinetic = 0.5 * mvv2e_ * ke2;
   t.potential = potential_;
   t.total = t.kinetic + t.potential;
-  const double dof = std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));
+  const double dof =
+      std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));
   t.temperature = 2.0 * t.kinetic / (dof * boltz_);
   return t;
 }
@@ -379,31 +551,37 @@ struct DumpWriter::Impl {
 DumpWriter::DumpWriter(const std::string& path) : impl_(new Impl(path)) {}
 DumpWriter::~DumpWriter() { delete impl_; }
 
-void DumpWriter::write(const body::Body& body, std::int64_t step, std::span<const double> y, std::span<const double> v) {
+void DumpWriter::write(const body::Body& body, std::int64_t step, std::span<const double> y,
+                       std::span<const double> v) {
   const auto& b = body.box;
   auto& s = impl_->file.stream();
   const size_t n = body.size();
   const char* pf[3];
   for (int a = 0; a < 3; ++a) pf[a] = b.periodic[static_cast<size_t>(a)] ? "pp" : "ff";
   fmt::memory_buffer out;
-  fmt::format_to(std::back_inserter(out), "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\n", step, n);
+  fmt::format_to(std::back_inserter(out), "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\n", step,
+                 n);
   if (b.triclinic()) {
     const double xlo = b.lo[0] + std::min({0.0, b.xy, b.xz, b.xy + b.xz});
     const double xhi = b.hi[0] + std::max({0.0, b.xy, b.xz, b.xy + b.xz});
     const double ylo = b.lo[1] + std::min(0.0, b.yz), yhi = b.hi[1] + std::max(0.0, b.yz);
     fmt::format_to(std::back_inserter(out),
-                   "ITEM: BOX BOUNDS xy xz yz {} {} {}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} {:.17g}\n",
+                   "ITEM: BOX BOUNDS xy xz yz {} {} {}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} "
+                   "{:.17g}\n{:.17g} {:.17g} {:.17g}\n",
                    pf[0], pf[1], pf[2], xlo, xhi, b.xy, ylo, yhi, b.xz, b.lo[2], b.hi[2], b.yz);
   } else {
-    fmt::format_to(std::back_inserter(out), "ITEM: BOX BOUNDS {} {} {}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n",
+    fmt::format_to(std::back_inserter(out),
+                   "ITEM: BOX BOUNDS {} {} {}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n",
                    pf[0], pf[1], pf[2], b.lo[0], b.hi[0], b.lo[1], b.hi[1], b.lo[2], b.hi[2]);
   }
   fmt::format_to(std::back_inserter(out), "ITEM: ATOMS id type x y z ix iy iz vx vy vz\n");
   for (size_t k = 0; k < n; ++k) {
     Eigen::Vector3i img(0, 0, 0);
     const Eigen::Vector3d w = b.wrap(Eigen::Vector3d(y[3 * k], y[3 * k + 1], y[3 * k + 2]), img);
-    fmt::format_to(std::back_inserter(out), "{} {} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g} {:.17g} {:.17g}\n", body.id[k],
-                   body.type[k], w[0], w[1], w[2], img[0], img[1], img[2], v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+    fmt::format_to(std::back_inserter(out),
+                   "{} {} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g} {:.17g} {:.17g}\n", body.id[k],
+                   body.type[k], w[0], w[1], w[2], img[0], img[1], img[2], v[3 * k], v[3 * k + 1],
+                   v[3 * k + 2]);
   }
   s.write(out.data(), static_cast<std::streamsize>(out.size()));
 }

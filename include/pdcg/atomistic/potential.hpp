@@ -70,6 +70,18 @@ struct FamilyState {
   const int* bond_type = nullptr;  ///< n molecular bond types (0 = not bonded); nullptr = none
 };
 
+/// Read-only view of a native EAM potential's spline tables (PairEAM's internal form: 7
+/// coefficients per grid point m, [7m + 0..6] = spline[m][0..6]) for dedicated half-list loops
+/// (dynamics). Evaluated with the coefficient formulas of PairEAM::compute, as force_state does.
+/// Pointers are owned by the Potential and valid for its lifetime.
+struct EamView {
+  int ntypes = 0, nr = 0, nrho = 0;
+  double rdr = 0, rdrho = 0, rhomax = 0, cutforcesq = 0;
+  std::vector<const double*> rhor;  ///< [jt·(ntypes+1) + kt]: density of a jt atom at a kt atom
+  std::vector<const double*> z2r;   ///< [kt·(ntypes+1) + jt]: r·φ(r)
+  std::vector<const double*> frho;  ///< [kt]: embedding function
+};
+
 class Potential {
  public:
   virtual ~Potential() = default;
@@ -85,6 +97,9 @@ class Potential {
   virtual double force_state(const FamilyState& family, double* t) const = 0;
   /// True when ψ_k = ½ Σ_j φ(r_kj) with no many-body term (bond-based PD).
   virtual bool pairwise() const { return false; }
+  /// The EAM tables when ψ_k is exactly F_k(ρ̄_k) + ½ Σ_j φ(r_kj) (native eam styles without
+  /// molecular bonds); nullptr otherwise.
+  virtual const EamView* eam_view() const { return nullptr; }
 
   /// Doubles of scratch force_state_tangent needs for a family of n bonds.
   static std::size_t tangent_workspace(std::int64_t n) { return 9 * static_cast<std::size_t>(n); }
