@@ -531,6 +531,44 @@ class PairModel final : public Potential {
   double cutoff() const override { return cutoff_; }
   int ntypes() const override { return ntypes_; }
   bool pairwise() const override { return true; }
+  bool has_pair_kernel() const override { return !bonds_.active(); }
+
+  double half_pair_forces(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
+                          double* f) const override {
+    const int n1 = ntypes_ + 1;
+    double energy = 0.0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+      const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
+      const auto* row = table_.v.data() + h.type[k] * n1;
+      double fx = 0.0, fy = 0.0, fz = 0.0, e = 0.0;
+      for (std::int64_t b = h.offset[k]; b < h.offset[k + 1]; ++b) {
+        const std::int64_t j = h.neighbor[b];
+        const double* sh = h.shift + 3 * b;
+        const double dx = y[3 * j] - xk + sh[0], dy = y[3 * j + 1] - yk + sh[1],
+                     dz = y[3 * j + 2] - zk + sh[2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        const auto& c = row[h.type[j]];
+        const double factor = h.factor ? h.factor[b] : 1.0;
+        if (factor != 0.0 && rsq < c.cutsq) {
+          double ep, fpair;
+          Law::eval(c, rsq, ep, fpair);
+          const double s = -factor * fpair;  // φ'(r)/r
+          e += factor * ep;
+          fx += s * dx;
+          fy += s * dy;
+          fz += s * dz;
+          f[3 * j] -= s * dx;
+          f[3 * j + 1] -= s * dy;
+          f[3 * j + 2] -= s * dz;
+        }
+      }
+      f[3 * k] += fx;
+      f[3 * k + 1] += fy;
+      f[3 * k + 2] += fz;
+      energy += e;
+    }
+    return energy;
+  }
 
   double force_state(const FamilyState& f, double* t) const override {
     if (types_out_of_range(f, ntypes_, t)) return kNaN;

@@ -431,52 +431,69 @@ void VelocityVerlet::evaluate_pairwise() {
   const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
   double energy = 0.0;
   const double* y = y_.data();
+  const bool kernel = pot.has_pair_kernel();
+  atomistic::HalfFamilies h;
+  h.offset = half_offset_.data();
+  h.neighbor = half_neighbor_.data();
+  h.type = body_.type.data();
+  h.shift = half_shift_.data();
+  h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
 #pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
   {
     const auto tid = static_cast<size_t>(omp_get_thread_num());
-    double* f = thread_f_[tid].data();
+    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+    double* f = used == 1 ? f_.data() : thread_f_[tid].data();
     double* Y = thread_y_[tid].data();
     double* t = thread_t_[tid].data();
     std::fill(f, f + 3 * n, 0.0);
-#pragma omp for schedule(static)
-    for (std::int64_t k = 0; k < n; ++k) {
-      const auto b0 = half_offset_[static_cast<size_t>(k)];
-      const auto m = half_offset_[static_cast<size_t>(k) + 1] - b0;
-      if (m == 0) continue;
-      const double* yk = y + 3 * k;
-      for (std::int64_t q = 0; q < m; ++q) {
-        const auto b = static_cast<size_t>(b0 + q);
-        const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
-        for (int a = 0; a < 3; ++a)
-          Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
-      }
-      atomistic::FamilyState st;
-      st.type = body_.type[static_cast<size_t>(k)];
-      st.size = m;
-      st.neighbor_type = half_type_.data() + b0;
-      st.bond = Y;
-      st.pair_factor = half_factor_.empty() ? nullptr : half_factor_.data() + b0;
-      st.bond_type = half_bond_type_.empty() ? nullptr : half_bond_type_.data() + b0;
-      energy += 2.0 * pot.force_state(st, t);
-      double fk[3] = {0.0, 0.0, 0.0};
-      for (std::int64_t q = 0; q < m; ++q) {
-        double* fj = f + 3 * static_cast<std::int64_t>(half_neighbor_[static_cast<size_t>(b0 + q)]);
-        for (int a = 0; a < 3; ++a) {
-          fk[a] += 2.0 * t[3 * q + a];
-          fj[a] -= 2.0 * t[3 * q + a];
+    if (kernel) {
+      // the potential's inlined pair loop over this thread's static block of points
+      const std::int64_t k0 = n * static_cast<std::int64_t>(tid) / used;
+      const std::int64_t k1 = n * (static_cast<std::int64_t>(tid) + 1) / used;
+      energy += pot.half_pair_forces(h, k0, k1, y, f);
+    } else {
+#pragma omp for schedule(static) nowait
+      for (std::int64_t k = 0; k < n; ++k) {
+        const auto b0 = half_offset_[static_cast<size_t>(k)];
+        const auto m = half_offset_[static_cast<size_t>(k) + 1] - b0;
+        if (m == 0) continue;
+        const double* yk = y + 3 * k;
+        for (std::int64_t q = 0; q < m; ++q) {
+          const auto b = static_cast<size_t>(b0 + q);
+          const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
+          for (int a = 0; a < 3; ++a)
+            Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
         }
+        atomistic::FamilyState st;
+        st.type = body_.type[static_cast<size_t>(k)];
+        st.size = m;
+        st.neighbor_type = half_type_.data() + b0;
+        st.bond = Y;
+        st.pair_factor = half_factor_.empty() ? nullptr : half_factor_.data() + b0;
+        st.bond_type = half_bond_type_.empty() ? nullptr : half_bond_type_.data() + b0;
+        energy += 2.0 * pot.force_state(st, t);
+        double fk[3] = {0.0, 0.0, 0.0};
+        for (std::int64_t q = 0; q < m; ++q) {
+          double* fj =
+              f + 3 * static_cast<std::int64_t>(half_neighbor_[static_cast<size_t>(b0 + q)]);
+          for (int a = 0; a < 3; ++a) {
+            fk[a] += 2.0 * t[3 * q + a];
+            fj[a] -= 2.0 * t[3 * q + a];
+          }
+        }
+        for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
       }
-      for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
     }
     // reduce the thread copies (each thread a slice of the dofs)
-    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+    if (used > 1) {
 #pragma omp barrier
 #pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < 3 * n; ++i) {
-      double s = 0.0;
-      for (int th = 0; th < used; ++th)
-        s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-      f_[static_cast<size_t>(i)] = s;
+      for (std::int64_t i = 0; i < 3 * n; ++i) {
+        double s = 0.0;
+        for (int th = 0; th < used; ++th)
+          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+        f_[static_cast<size_t>(i)] = s;
+      }
     }
   }
   potential_ = energy;

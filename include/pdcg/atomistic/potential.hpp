@@ -82,6 +82,16 @@ struct EamView {
   std::vector<const double*> frho;  ///< [kt]: embedding function
 };
 
+/// Half families (each pair once: bonds k→j with j > k, or one of the two bonds of a self
+/// image) in CSR form, for pair kernels that scatter to both ends. Borrowed pointers.
+struct HalfFamilies {
+  const std::int64_t* offset = nullptr;  ///< N+1
+  const std::int32_t* neighbor = nullptr;
+  const int* type = nullptr;       ///< N atom types (1-based)
+  const double* shift = nullptr;   ///< 3 per half bond: image shift H·n added to y_j − y_k
+  const double* factor = nullptr;  ///< per half bond special_bonds factor; nullptr = all 1
+};
+
 class Potential {
  public:
   virtual ~Potential() = default;
@@ -100,6 +110,15 @@ class Potential {
   /// The EAM tables when ψ_k is exactly F_k(ρ̄_k) + ½ Σ_j φ(r_kj) (native eam styles without
   /// molecular bonds); nullptr otherwise.
   virtual const EamView* eam_view() const { return nullptr; }
+  /// True when half_pair_forces is available (native pair styles without molecular bonds).
+  virtual bool has_pair_kernel() const { return false; }
+  /// Pair forces of the half families of points k0 ≤ k < k1 at positions y (3N), added into
+  /// f (3N): per pair, with Y = y_j − y_k + shift and s the special factor,
+  /// f_k += s φ'(r)/r Y, f_j −= s φ'(r)/r Y; returns Σ s φ(r). Same operations as
+  /// force_state (LAMMPS's pair formulas), inlined per pair. Allocates nothing; thread-safe
+  /// for disjoint f. Only valid when has_pair_kernel() (std::logic_error otherwise).
+  virtual double half_pair_forces(const HalfFamilies& h, std::int64_t k0, std::int64_t k1,
+                                  const double* y, double* f) const;
 
   /// Doubles of scratch force_state_tangent needs for a family of n bonds.
   static std::size_t tangent_workspace(std::int64_t n) { return 9 * static_cast<std::size_t>(n); }

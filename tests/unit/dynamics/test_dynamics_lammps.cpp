@@ -260,3 +260,42 @@ TEST(DynamicsEamHalfPath, SameForcesAsEvaluatorAndLammps) {
   EXPECT_LT(ee, 1e-13);
 #endif
 }
+
+// The inlined pair kernel (Potential::half_pair_forces) against the general Evaluator, LJ
+// with two types (mixed coefficients) on 1 and 2 threads (2916 atoms: parallel branch).
+TEST(DynamicsPairKernel, SameForcesAsEvaluator) {
+  MdSetup two = kLJ;
+  two.potential =
+      "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 2 2 0.8 1.1 2.7\nmass 2 2.0\n";
+  Atoms at = fcc(9, kLJ.a, 0.02, 29);
+  std::mt19937 rng(6);
+  for (auto& t : at.type) t = 1 + static_cast<int>(rng() % 2);
+  const std::string cmds = std::string("units lj\n") + two.potential;
+  const auto spec = atomistic::read_potential_commands_from_string(cmds, "test", 2);
+  std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  ASSERT_TRUE(pot->has_pair_kernel());
+  at.type_mass = {std::numeric_limits<double>::quiet_NaN(), 1.0, 2.0};
+  const body::Body b =
+      body::make_delta_body(at, pot, spec, {.dimension = 3, .cutoff = 3.2, .source = "test"});
+  std::vector<double> y = b.x;
+  std::uniform_real_distribution<double> u(-0.03, 0.03);
+  for (auto& yi : y) yi += u(rng);
+  body::Evaluator ev(b);
+  const auto e = ev.deformed(y);
+  const std::vector<double> f_ev(e.forces.begin(), e.forces.end());
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    dynamics::VelocityVerlet vv(b, y, {}, 0.001);
+    const std::vector<double> f(vv.forces().begin(), vv.forces().end());
+    const double ef = test::max_norm_relative_error(f, f_ev);
+    const double ee = std::abs(vv.thermo().potential - e.energy) / std::abs(e.energy);
+    std::printf(
+        "  LJ 2 types %zu atoms, %d threads: pair kernel vs Evaluator: forces %.2e, energy %.2e\n",
+        b.size(), threads, ef, ee);
+    // same formulas, summation order differs: round-off (1e-13 relative)
+    EXPECT_LT(ef, 1e-13);
+    EXPECT_LT(ee, 1e-13);
+  }
+  omp_set_num_threads(saved);
+}
