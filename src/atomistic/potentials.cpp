@@ -535,8 +535,20 @@ class PairModel final : public Potential {
 
   double half_pair_forces(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
                           double* f) const override {
+    // one type and no special factors (the common case) hoist the coefficient lookup and the
+    // factor test out of the pair loop
+    if (ntypes_ == 1 && !h.factor) return half_pair_loop<true, false>(h, k0, k1, y, f);
+    if (!h.factor) return half_pair_loop<false, false>(h, k0, k1, y, f);
+    return half_pair_loop<false, true>(h, k0, k1, y, f);
+  }
+
+  template <bool kSingleType, bool kFactor>
+  double half_pair_loop(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
+                        double* f) const {
     const int n1 = ntypes_ + 1;
     double energy = 0.0;
+    const auto c1 =
+        kSingleType ? table_.v[static_cast<std::size_t>(n1 + 1)] : typename Law::Coeff{};  // (1, 1)
     for (std::int64_t k = k0; k < k1; ++k) {
       const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
       const auto* row = table_.v.data() + h.type[k] * n1;
@@ -547,13 +559,13 @@ class PairModel final : public Potential {
         const double dx = y[3 * j] - xk + sh[0], dy = y[3 * j + 1] - yk + sh[1],
                      dz = y[3 * j + 2] - zk + sh[2];
         const double rsq = dx * dx + dy * dy + dz * dz;
-        const auto& c = row[h.type[j]];
-        const double factor = h.factor ? h.factor[b] : 1.0;
-        if (factor != 0.0 && rsq < c.cutsq) {
+        const auto& c = kSingleType ? c1 : row[h.type[j]];
+        const double factor = kFactor ? h.factor[b] : 1.0;
+        if ((!kFactor || factor != 0.0) && rsq < c.cutsq) {
           double ep, fpair;
           Law::eval(c, rsq, ep, fpair);
-          const double s = -factor * fpair;  // φ'(r)/r
-          e += factor * ep;
+          const double s = kFactor ? -factor * fpair : -fpair;  // φ'(r)/r
+          e += kFactor ? factor * ep : ep;
           fx += s * dx;
           fy += s * dy;
           fz += s * dz;
