@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 namespace pdcg::atomistic {
 
@@ -32,6 +33,11 @@ void Potential::force_state_tangent(const FamilyState& f, double* K, double* wor
               (tp[3 * j + a] - tm[3 * j + a]) / (2.0 * s);
     }
   }
+}
+
+double Potential::half_pair_forces(const HalfFamilies&, std::int64_t, std::int64_t, const double*,
+                                   double*) const {
+  throw std::logic_error("half_pair_forces: no pair kernel for " + style());
 }
 
 }  // namespace pdcg::atomistic

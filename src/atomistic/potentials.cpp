@@ -1,12 +1,12 @@
 // Native potentials: pointwise laws (pair, bond, EAM tables) separate from the family loops.
 #include "pdcg/atomistic/potentials.hpp"
-#include "pdcg/atomistic/lammps_potential.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "eam_tables.hpp"
+#include "pdcg/atomistic/lammps_potential.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
@@ -531,6 +531,56 @@ class PairModel final : public Potential {
   double cutoff() const override { return cutoff_; }
   int ntypes() const override { return ntypes_; }
   bool pairwise() const override { return true; }
+  bool has_pair_kernel() const override { return !bonds_.active(); }
+
+  double half_pair_forces(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
+                          double* f) const override {
+    // one type and no special factors (the common case) hoist the coefficient lookup and the
+    // factor test out of the pair loop
+    if (ntypes_ == 1 && !h.factor) return half_pair_loop<true, false>(h, k0, k1, y, f);
+    if (!h.factor) return half_pair_loop<false, false>(h, k0, k1, y, f);
+    return half_pair_loop<false, true>(h, k0, k1, y, f);
+  }
+
+  template <bool kSingleType, bool kFactor>
+  double half_pair_loop(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
+                        double* f) const {
+    const int n1 = ntypes_ + 1;
+    double energy = 0.0;
+    const auto c1 =
+        kSingleType ? table_.v[static_cast<std::size_t>(n1 + 1)] : typename Law::Coeff{};  // (1, 1)
+    for (std::int64_t k = k0; k < k1; ++k) {
+      const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
+      const auto* row = table_.v.data() + h.type[k] * n1;
+      double fx = 0.0, fy = 0.0, fz = 0.0, e = 0.0;
+      for (std::int64_t b = h.offset[k]; b < h.offset[k + 1]; ++b) {
+        const std::int64_t j = h.neighbor[b];
+        const double* sh = h.shift + 3 * b;
+        const double dx = y[3 * j] - xk + sh[0], dy = y[3 * j + 1] - yk + sh[1],
+                     dz = y[3 * j + 2] - zk + sh[2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        const auto& c = kSingleType ? c1 : row[h.type[j]];
+        const double factor = kFactor ? h.factor[b] : 1.0;
+        if ((!kFactor || factor != 0.0) && rsq < c.cutsq) {
+          double ep, fpair;
+          Law::eval(c, rsq, ep, fpair);
+          const double s = kFactor ? -factor * fpair : -fpair;  // φ'(r)/r
+          e += kFactor ? factor * ep : ep;
+          fx += s * dx;
+          fy += s * dy;
+          fz += s * dz;
+          f[3 * j] -= s * dx;
+          f[3 * j + 1] -= s * dy;
+          f[3 * j + 2] -= s * dz;
+        }
+      }
+      f[3 * k] += fx;
+      f[3 * k + 1] += fy;
+      f[3 * k + 2] += fz;
+      energy += e;
+    }
+    return energy;
+  }
 
   double force_state(const FamilyState& f, double* t) const override {
     if (types_out_of_range(f, ntypes_, t)) return kNaN;
@@ -592,7 +642,24 @@ class PairModel final : public Potential {
 class EamModel final : public Potential {
  public:
   EamModel(const PotentialSpec& spec, EamTables tables, BondTable bonds)
-      : style_(style_name(spec)), e_(std::move(tables)), bonds_(std::move(bonds)) {}
+      : style_(style_name(spec)), e_(std::move(tables)), bonds_(std::move(bonds)) {
+    view_.ntypes = e_.ntypes;
+    view_.nr = e_.nr;
+    view_.nrho = e_.nrho;
+    view_.rdr = e_.rdr;
+    view_.rdrho = e_.rdrho;
+    view_.rhomax = e_.rhomax;
+    view_.cutforcesq = e_.cutforcesq;
+    auto table = [](const std::vector<std::vector<double>>& sp, int w) -> const double* {
+      return w >= 0 && static_cast<std::size_t>(w) < sp.size()
+                 ? sp[static_cast<std::size_t>(w)].data()
+                 : nullptr;
+    };
+    for (int w : e_.type2rhor) view_.rhor.push_back(table(e_.rhor_spline, w));
+    for (int w : e_.type2z2r) view_.z2r.push_back(table(e_.z2r_spline, w));
+    for (int w : e_.type2frho) view_.frho.push_back(table(e_.frho_spline, w));
+  }
+  const EamView* eam_view() const override { return bonds_.active() ? nullptr : &view_; }
   std::string style() const override { return style_; }
   double cutoff() const override { return e_.cutmax; }
   int ntypes() const override { return e_.ntypes; }
@@ -773,6 +840,7 @@ class EamModel final : public Potential {
   std::string style_;
   EamTables e_;
   BondTable bonds_;
+  EamView view_;
 };
 
 }  // namespace

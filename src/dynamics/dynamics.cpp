@@ -1,13 +1,12 @@
 #include "pdcg/dynamics/dynamics.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include <omp.h>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/atomic_output.hpp"
@@ -22,7 +21,9 @@ void check_masses(const body::Body& body, const std::string& source) {
     throw InputError("the body has no masses")
         .source(source)
         .expected("one mass per point")
-        .fix("give masses (`mass` commands or a Masses section) when building the body with atoms2pd");
+        .fix(
+            "give masses (`mass` commands or a Masses section) when building the body with "
+            "atoms2pd");
   for (size_t k = 0; k < body.size(); ++k)
     if (!(std::isfinite(body.mass[k]) && body.mass[k] > 0.0))
       throw InputError("missing or non-positive mass")
@@ -30,8 +31,122 @@ void check_masses(const body::Body& body, const std::string& source) {
           .key(fmt::format("atom id {}", body.id[k]))
           .value(fmt::format("{}", body.mass[k]))
           .expected("a finite positive mass for every point")
-          .fix("set the masses of all types when building the body (`mass` commands or a Masses section)");
+          .fix(
+              "set the masses of all types when building the body (`mass` commands or a Masses "
+              "section)");
 }
+
+namespace {
+
+/// Gershgorin row sums of one EAM family's Hessian in O(n) instead of O(n²): with the analytic
+/// tangent of the native EAM (EamModel::force_state_tangent)
+///   A_jm = δ_jm D_j + F''_k u_j u_mᵀ,   u_j = ρ'_{j→k}(r_j) Y_j/r_j,
+///   D_j = T_j/r I + (T_j'/r − T_j/r²)/r Y_j⊗Y_j,  T_j = F'_k ρ'_j + ½φ'_j,
+/// the sums of the general loop are closed forms: Σ_j A_jm = D_m + F'' U u_mᵀ (U = Σ_j u_j),
+/// Σ_m A_jm = D_j + F'' u_j Uᵀ, Σ_jm A_jm = Σ_j D_j + F'' U Uᵀ, and the off-diagonal part of
+/// row a of neighbour j is |F''| |u_ja| (Σ_m Σ_b |u_mb| − Σ_b |u_jb|). Same spline formulas
+/// as the tangent, so the bound equals the general one to round-off. D: 9n, u: 3n doubles.
+void eam_family_rows(const atomistic::EamView& E, const body::Body& body, const double* bonds,
+                     std::int64_t k, double* D, double* u, double* local) {
+  const auto& fam = body.families;
+  const auto b0 = fam.offset[static_cast<size_t>(k)];
+  const auto n = fam.offset[static_cast<size_t>(k) + 1] - b0;
+  const double* fac = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+  const int n1 = E.ntypes + 1;
+  const int kt = body.type[static_cast<size_t>(k)];
+  auto locate = [](double x, double rdx, int nmax, int& m, bool& clamped) {
+    double q = x * rdx + 1.0;
+    m = std::min(static_cast<int>(q), nmax - 1);
+    q -= m;
+    clamped = q > 1.0;
+    return std::min(q, 1.0);
+  };
+  auto jtype = [&](std::int64_t b) {
+    return body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0 + b)])];
+  };
+  double rho = 0.0;
+  for (std::int64_t b = 0; b < n; ++b) {
+    if (fac && fac[b] == 0.0) continue;
+    const double* y = bonds + 3 * (b0 + b);
+    const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+    if (rsq < E.cutforcesq) {
+      int m;
+      bool cl;
+      const double p = locate(std::sqrt(rsq), E.rdr, E.nr, m, cl);
+      const double* c = E.rhor[static_cast<size_t>(jtype(b) * n1 + kt)] + 7 * m;
+      rho += ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+    }
+  }
+  double p = rho * E.rdrho + 1.0;
+  int m = static_cast<int>(p);
+  m = std::max(1, std::min(m, E.nrho - 1));
+  p -= m;
+  const bool fclamped = p > 1.0;
+  p = std::min(p, 1.0);
+  const double* cf = E.frho[static_cast<size_t>(kt)] + 7 * m;
+  const double fp = (cf[0] * p + cf[1]) * p + cf[2];
+  const double fpp = fclamped ? 0.0 : (2.0 * cf[0] * p + cf[1]) * E.rdrho;
+  double U[3] = {0, 0, 0}, S1 = 0.0, Dsum[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  for (std::int64_t b = 0; b < n; ++b) {
+    const double* y = bonds + 3 * (b0 + b);
+    double* d = D + 9 * b;
+    double* ub = u + 3 * b;
+    std::fill(d, d + 9, 0.0);
+    ub[0] = ub[1] = ub[2] = 0.0;
+    const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+    if (!(rsq < E.cutforcesq) || (fac && fac[b] == 0.0)) continue;
+    const int jt = jtype(b);
+    const double r = std::sqrt(rsq);
+    int mm;
+    bool cl;
+    const double q = locate(r, E.rdr, E.nr, mm, cl);
+    const double* c1 = E.rhor[static_cast<size_t>(jt * n1 + kt)] + 7 * mm;
+    const double* c2 = E.z2r[static_cast<size_t>(kt * n1 + jt)] + 7 * mm;
+    const double g = (c1[0] * q + c1[1]) * q + c1[2];
+    const double gp = cl ? 0.0 : (2.0 * c1[0] * q + c1[1]) * E.rdr;
+    const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
+    const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
+    const double z2pp = cl ? 0.0 : (2.0 * c2[0] * q + c2[1]) * E.rdr;
+    const double recip = 1.0 / r;
+    const double phi = z2 * recip;
+    const double phip = z2p * recip - phi * recip;
+    const double phipp = (z2pp - 2.0 * phip) * recip;
+    const double T = fp * g + 0.5 * phip;
+    const double Tp = fp * gp + 0.5 * phipp;
+    const double sI = T * recip, cY = (Tp * recip - T * recip * recip) * recip;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) d[3 * a + c] += cY * y[a] * y[c] + (a == c ? sI : 0.0);
+    for (int a = 0; a < 3; ++a) {
+      ub[a] = g * y[a] * recip;
+      U[a] += ub[a];
+      S1 += std::abs(ub[a]);
+    }
+    for (int c = 0; c < 9; ++c) Dsum[c] += d[c];
+  }
+  double rowk[3] = {0, 0, 0};
+  for (std::int64_t b = 0; b < n; ++b) {
+    const double* d = D + 9 * b;
+    const double* ub = u + 3 * b;
+    const double uj1 = std::abs(ub[0]) + std::abs(ub[1]) + std::abs(ub[2]);
+    const size_t dof = 3 * static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0 + b)]);
+    for (int a = 0; a < 3; ++a) {
+      double s = std::abs(fpp) * std::abs(ub[a]) * (S1 - uj1);  // blocks m ≠ j
+      for (int c = 0; c < 3; ++c) {
+        s += std::abs(d[3 * a + c] + fpp * ub[a] * ub[c]);       // block m = j
+        s += std::abs(d[3 * a + c] + fpp * ub[a] * U[c]);        // |H_jk| = |Σ_m A_jm|
+        rowk[a] += std::abs(d[3 * a + c] + fpp * U[a] * ub[c]);  // |H_km| = |Σ_j A_jm|
+      }
+      local[dof + static_cast<size_t>(a)] += s;
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    double s = rowk[a];
+    for (int c = 0; c < 3; ++c) s += std::abs(Dsum[3 * a + c] + fpp * U[a] * U[c]);  // |H_kk|
+    local[3 * static_cast<size_t>(k) + static_cast<size_t>(a)] += s;
+  }
+}
+
+}  // namespace
 
 StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
   check_masses(body, "body");
@@ -40,15 +155,22 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
   std::vector<double> bonds(3 * fam.bonds());
   atomistic::deformed_bonds(fam, y.empty() ? std::span<const double>(body.x) : y, fam.h, bonds);
   std::int64_t max_family = 0;
-  for (size_t k = 0; k < n; ++k) max_family = std::max(max_family, fam.offset[k + 1] - fam.offset[k]);
+  for (size_t k = 0; k < n; ++k)
+    max_family = std::max(max_family, fam.offset[k + 1] - fam.offset[k]);
   const auto& pot = *body.potential;
   // row[i]: Σ_k Σ_l |H⁽ᵏ⁾_il| for the 3N dofs. Families scatter into their neighbours' rows,
   // so each thread accumulates its own copy (computed once per run: memory 3N per thread).
   std::vector<double> row(3 * n, 0.0);
+  const atomistic::EamView* eam = body.statistics ? nullptr : pot.eam_view();
+  if (eam && std::any_of(body.type.begin(), body.type.end(), [&](int t) {
+        return t < 1 || t > eam->ntypes || !eam->frho[static_cast<size_t>(t)];
+      }))
+    eam = nullptr;  // the general path gives NaN for an uncovered type
 #pragma omp parallel
   {
     const size_t nf = static_cast<size_t>(max_family);
-    std::vector<double> K(9 * nf * nf), work(atomistic::Potential::tangent_workspace(max_family));
+    std::vector<double> K(eam ? 9 * nf : 9 * nf * nf),
+        work(atomistic::Potential::tangent_workspace(max_family));
     std::vector<double> rowk(3 * (nf + 1)), sumj(9 * nf), summ(9 * nf), local(3 * n, 0.0);
     std::vector<int> ntype(nf);
 #pragma omp for schedule(dynamic, 64)
@@ -56,8 +178,13 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
       const auto b0 = fam.offset[static_cast<size_t>(k)];
       const auto m = fam.offset[static_cast<size_t>(k) + 1] - b0;
       if (m == 0) continue;
+      if (eam) {
+        eam_family_rows(*eam, body, bonds.data(), k, K.data(), work.data(), local.data());
+        continue;
+      }
       const size_t nm = static_cast<size_t>(m);
-      for (size_t j = 0; j < nm; ++j) ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
+      for (size_t j = 0; j < nm; ++j)
+        ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
       atomistic::FamilyState st;
       st.type = body.type[static_cast<size_t>(k)];
       st.size = m;
@@ -142,16 +269,21 @@ void require_stable_time_step(double dt, const StableStep& limit, bool force) {
   throw InputError("time step above the stable limit")
       .key("dt")
       .value(fmt::format("{:.6g}", dt))
-      .expected(fmt::format("dt <= {:.6g} = 2/ω_bound (Gershgorin bound ω_bound = {:.6g} at atom id {}; "
-                            "the requested dt is {:.4g}× the limit)",
-                            limit.dt_stable, limit.omega_bound, limit.critical_id, dt / limit.dt_stable))
+      .expected(
+          fmt::format("dt <= {:.6g} = 2/ω_bound (Gershgorin bound ω_bound = {:.6g} at atom id {}; "
+                      "the requested dt is {:.4g}× the limit)",
+                      limit.dt_stable, limit.omega_bound, limit.critical_id, dt / limit.dt_stable))
       .fix("use a smaller time step, or --force-unstable to run anyway");
 }
 
-std::vector<double> thermal_velocities(const body::Body& body, double temperature, std::uint64_t seed) {
+std::vector<double> thermal_velocities(const body::Body& body, double temperature,
+                                       std::uint64_t seed) {
   check_masses(body, "body");
   if (!(temperature >= 0.0) || !std::isfinite(temperature))
-    throw InputError("bad temperature").key("temperature").value(fmt::format("{}", temperature)).expected("T >= 0");
+    throw InputError("bad temperature")
+        .key("temperature")
+        .value(fmt::format("{}", temperature))
+        .expected("T >= 0");
   const size_t n = body.size();
   const int d = std::clamp(body.dimension, 1, 3);
   std::vector<double> v(3 * n, 0.0);
@@ -197,7 +329,8 @@ std::vector<double> velocities_from_atoms(const body::Body& body, const atomisti
   // both sorted by id
   std::vector<size_t> order(atoms.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return atoms.id[a] < atoms.id[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return atoms.id[a] < atoms.id[b]; });
   std::vector<double> v(3 * body.size());
   for (size_t k = 0; k < body.size(); ++k) {
     const size_t i = order[k];
@@ -207,21 +340,27 @@ std::vector<double> velocities_from_atoms(const body::Body& body, const atomisti
           .key("id")
           .value(std::to_string(atoms.id[i]))
           .expected(fmt::format("id {}", body.id[k]));
-    for (int a = 0; a < 3; ++a) v[3 * k + static_cast<size_t>(a)] = atoms.v[3 * i + static_cast<size_t>(a)];
+    for (int a = 0; a < 3; ++a)
+      v[3 * k + static_cast<size_t>(a)] = atoms.v[3 * i + static_cast<size_t>(a)];
   }
   return v;
 }
 
-VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt)
+VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0,
+                               std::vector<double> v0, double dt)
     : body_(body), ev_(body), y_(std::move(y0)), v_(std::move(v0)), dt_(dt) {
   check_masses(body, "body");
   if (!(dt > 0.0) || !std::isfinite(dt))
-    throw InputError("bad time step").key("dt").value(fmt::format("{}", dt)).expected("a positive number");
+    throw InputError("bad time step")
+        .key("dt")
+        .value(fmt::format("{}", dt))
+        .expected("a positive number");
   const size_t n = body.size();
   if (y_.empty()) y_ = body.x;
   if (v_.empty()) v_.assign(3 * n, 0.0);
   if (y_.size() != 3 * n || v_.size() != 3 * n)
-    throw InputError("positions/velocities do not match the body").expected(fmt::format("3×{} values", n));
+    throw InputError("positions/velocities do not match the body")
+        .expected(fmt::format("3×{} values", n));
   const auto uc = unit_constants(body.units);
   ftm2v_ = uc.ftm2v;
   mvv2e_ = uc.mvv2e;
@@ -230,11 +369,16 @@ VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0, s
   for (size_t k = 0; k < n; ++k) inv_mass_[k] = 1.0 / body.mass[k];
   f_.resize(3 * n);
   half_ = body.potential->pairwise() && !body.statistics;
-  if (half_) setup_pairwise();
+  if (!body.statistics) eam_ = body.potential->eam_view();
+  if (eam_ && (eam_->ntypes < 1 || std::any_of(body.type.begin(), body.type.end(), [&](int t) {
+                 return t < 1 || t > eam_->ntypes || !eam_->frho[static_cast<size_t>(t)];
+               })))
+    eam_ = nullptr;  // the general path reports the bad type (NaN force states)
+  if (half_ || eam_) setup_half();
   evaluate();
 }
 
-void VelocityVerlet::setup_pairwise() {
+void VelocityVerlet::setup_half() {
   const auto& fam = body_.families;
   const size_t n = body_.size();
   half_offset_.assign(n + 1, 0);
@@ -246,7 +390,8 @@ void VelocityVerlet::setup_pairwise() {
       if (!(j > k || (j == k && fam.reverse[ub] > b))) continue;  // the other half holds it
       half_neighbor_.push_back(fam.neighbor[ub]);
       half_type_.push_back(body_.type[j]);
-      const Eigen::Vector3d s = fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
+      const Eigen::Vector3d s =
+          fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
       half_shift_.insert(half_shift_.end(), {s[0], s[1], s[2]});
       if (!fam.pair_factor.empty()) half_factor_.push_back(fam.pair_factor[ub]);
       if (!fam.bond_type.empty()) half_bond_type_.push_back(fam.bond_type[ub]);
@@ -256,8 +401,150 @@ void VelocityVerlet::setup_pairwise() {
   }
   const int threads = omp_get_max_threads();
   thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * n));
-  thread_y_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
-  thread_t_.assign(static_cast<size_t>(threads), std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  thread_y_.assign(static_cast<size_t>(threads),
+                   std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  thread_t_.assign(static_cast<size_t>(threads),
+                   std::vector<double>(3 * static_cast<size_t>(widest) + 3));
+  if (eam_) {
+    thread_rho_.assign(static_cast<size_t>(threads), std::vector<double>(n));
+    rho_.assign(n, 0.0);
+    fp_.assign(n, 0.0);
+  }
+}
+
+void VelocityVerlet::evaluate_eam() {
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const atomistic::EamView& E = *eam_;
+  const int n1 = E.ntypes + 1;
+  const int nr1 = E.nr - 1, nrho1 = E.nrho - 1;
+  const double rdr = E.rdr, rdrho = E.rdrho, rhomax = E.rhomax, cutsq = E.cutforcesq;
+  const double* const* rhor = E.rhor.data();
+  const double* const* z2r = E.z2r.data();
+  const double* const* frho = E.frho.data();
+  const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
+  const double* y = y_.data();
+  const int* type = body_.type.data();
+  const std::int64_t* off = half_offset_.data();
+  const std::int32_t* nb = half_neighbor_.data();
+  const int* nbt = half_type_.data();
+  const double* sh = half_shift_.data();
+  const double* fac = half_factor_.empty() ? nullptr : half_factor_.data();
+  double* rho = rho_.data();
+  double* fp = fp_.data();
+  double energy = 0.0;
+#pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
+  {
+    const auto tid = static_cast<size_t>(omp_get_thread_num());
+    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+    double* trho = used == 1 ? rho : thread_rho_[tid].data();
+    double* f = used == 1 ? f_.data() : thread_f_[tid].data();
+    std::fill(trho, trho + n, 0.0);
+    std::fill(f, f + 3 * n, 0.0);
+    // pass 1: ρ̄ (PairEAM::compute, density of j at k and of k at j from one distance)
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
+      const int kt = type[k];
+      double rk = 0.0;
+      for (std::int64_t b = off[k]; b < off[k + 1]; ++b) {
+        if (fac && fac[b] == 0.0) continue;  // LAMMPS excludes these pairs
+        const std::int64_t j = nb[b];
+        const double dx = y[3 * j] - xk + sh[3 * b], dy = y[3 * j + 1] - yk + sh[3 * b + 1],
+                     dz = y[3 * j + 2] - zk + sh[3 * b + 2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq < cutsq) {
+          const int jt = nbt[b];
+          double p = std::sqrt(rsq) * rdr + 1.0;
+          int m = static_cast<int>(p);
+          m = std::min(m, nr1);
+          p -= m;
+          p = std::min(p, 1.0);
+          const double* c = rhor[jt * n1 + kt] + 7 * m;
+          rk += ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+          const double* d = rhor[kt * n1 + jt] + 7 * m;
+          trho[j] += ((d[3] * p + d[4]) * p + d[5]) * p + d[6];
+        }
+      }
+      trho[k] += rk;
+    }
+    // pass 2: ρ̄ summed over the thread copies, F(ρ̄) and F'(ρ̄) (linear beyond ρ_max)
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      double r = rho[k];
+      if (used > 1) {
+        r = 0.0;
+        for (int th = 0; th < used; ++th)
+          r += thread_rho_[static_cast<size_t>(th)][static_cast<size_t>(k)];
+        rho[k] = r;
+      }
+      double p = r * rdrho + 1.0;
+      int m = static_cast<int>(p);
+      m = std::max(1, std::min(m, nrho1));
+      p -= m;
+      p = std::min(p, 1.0);
+      const double* c = frho[type[k]] + 7 * m;
+      fp[k] = (c[0] * p + c[1]) * p + c[2];
+      double phi = ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+      if (r > rhomax) phi += fp[k] * (r - rhomax);
+      energy += phi;
+    }
+    // pass 3: pair forces and energies
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < n; ++k) {
+      const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
+      const int kt = type[k];
+      const double fpk = fp[k];
+      double fx = 0.0, fy = 0.0, fz = 0.0, e = 0.0;
+      for (std::int64_t b = off[k]; b < off[k + 1]; ++b) {
+        if (fac && fac[b] == 0.0) continue;
+        const std::int64_t j = nb[b];
+        const double dx = y[3 * j] - xk + sh[3 * b], dy = y[3 * j + 1] - yk + sh[3 * b + 1],
+                     dz = y[3 * j + 2] - zk + sh[3 * b + 2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq < cutsq) {
+          const int jt = nbt[b];
+          const double r = std::sqrt(rsq);
+          double p = r * rdr + 1.0;
+          int m = static_cast<int>(p);
+          m = std::min(m, nr1);
+          p -= m;
+          p = std::min(p, 1.0);
+          const double* c1 = rhor[jt * n1 + kt] + 7 * m;
+          const double rhojp = (c1[0] * p + c1[1]) * p + c1[2];
+          const double* c2 = rhor[kt * n1 + jt] + 7 * m;
+          const double rhokp = (c2[0] * p + c2[1]) * p + c2[2];
+          const double* c3 = z2r[kt * n1 + jt] + 7 * m;
+          const double z2p = (c3[0] * p + c3[1]) * p + c3[2];
+          const double z2 = ((c3[3] * p + c3[4]) * p + c3[5]) * p + c3[6];
+          const double recip = 1.0 / r;
+          const double phi = z2 * recip;
+          const double phip = z2p * recip - phi * recip;
+          const double s = (fpk * rhojp + fp[j] * rhokp + phip) * recip;
+          e += phi;
+          fx += s * dx;
+          fy += s * dy;
+          fz += s * dz;
+          f[3 * j] -= s * dx;
+          f[3 * j + 1] -= s * dy;
+          f[3 * j + 2] -= s * dz;
+        }
+      }
+      f[3 * k] += fx;
+      f[3 * k + 1] += fy;
+      f[3 * k + 2] += fz;
+      energy += e;
+    }
+    if (used > 1) {
+#pragma omp for schedule(static)
+      for (std::int64_t i = 0; i < 3 * n; ++i) {
+        double s = 0.0;
+        for (int th = 0; th < used; ++th)
+          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+        f_[static_cast<size_t>(i)] = s;
+      }
+    }
+  }
+  potential_ = energy;
 }
 
 void VelocityVerlet::evaluate_pairwise() {
@@ -266,56 +553,79 @@ void VelocityVerlet::evaluate_pairwise() {
   const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
   double energy = 0.0;
   const double* y = y_.data();
+  const bool kernel = pot.has_pair_kernel();
+  atomistic::HalfFamilies h;
+  h.offset = half_offset_.data();
+  h.neighbor = half_neighbor_.data();
+  h.type = body_.type.data();
+  h.shift = half_shift_.data();
+  h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
 #pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
   {
     const auto tid = static_cast<size_t>(omp_get_thread_num());
-    double* f = thread_f_[tid].data();
+    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+    double* f = used == 1 ? f_.data() : thread_f_[tid].data();
     double* Y = thread_y_[tid].data();
     double* t = thread_t_[tid].data();
     std::fill(f, f + 3 * n, 0.0);
-#pragma omp for schedule(static)
-    for (std::int64_t k = 0; k < n; ++k) {
-      const auto b0 = half_offset_[static_cast<size_t>(k)];
-      const auto m = half_offset_[static_cast<size_t>(k) + 1] - b0;
-      if (m == 0) continue;
-      const double* yk = y + 3 * k;
-      for (std::int64_t q = 0; q < m; ++q) {
-        const auto b = static_cast<size_t>(b0 + q);
-        const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
-        for (int a = 0; a < 3; ++a) Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
-      }
-      atomistic::FamilyState st;
-      st.type = body_.type[static_cast<size_t>(k)];
-      st.size = m;
-      st.neighbor_type = half_type_.data() + b0;
-      st.bond = Y;
-      st.pair_factor = half_factor_.empty() ? nullptr : half_factor_.data() + b0;
-      st.bond_type = half_bond_type_.empty() ? nullptr : half_bond_type_.data() + b0;
-      energy += 2.0 * pot.force_state(st, t);
-      double fk[3] = {0.0, 0.0, 0.0};
-      for (std::int64_t q = 0; q < m; ++q) {
-        double* fj = f + 3 * static_cast<std::int64_t>(half_neighbor_[static_cast<size_t>(b0 + q)]);
-        for (int a = 0; a < 3; ++a) {
-          fk[a] += 2.0 * t[3 * q + a];
-          fj[a] -= 2.0 * t[3 * q + a];
+    if (kernel) {
+      // the potential's inlined pair loop over this thread's static block of points
+      const std::int64_t k0 = n * static_cast<std::int64_t>(tid) / used;
+      const std::int64_t k1 = n * (static_cast<std::int64_t>(tid) + 1) / used;
+      energy += pot.half_pair_forces(h, k0, k1, y, f);
+    } else {
+#pragma omp for schedule(static) nowait
+      for (std::int64_t k = 0; k < n; ++k) {
+        const auto b0 = half_offset_[static_cast<size_t>(k)];
+        const auto m = half_offset_[static_cast<size_t>(k) + 1] - b0;
+        if (m == 0) continue;
+        const double* yk = y + 3 * k;
+        for (std::int64_t q = 0; q < m; ++q) {
+          const auto b = static_cast<size_t>(b0 + q);
+          const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
+          for (int a = 0; a < 3; ++a)
+            Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
         }
+        atomistic::FamilyState st;
+        st.type = body_.type[static_cast<size_t>(k)];
+        st.size = m;
+        st.neighbor_type = half_type_.data() + b0;
+        st.bond = Y;
+        st.pair_factor = half_factor_.empty() ? nullptr : half_factor_.data() + b0;
+        st.bond_type = half_bond_type_.empty() ? nullptr : half_bond_type_.data() + b0;
+        energy += 2.0 * pot.force_state(st, t);
+        double fk[3] = {0.0, 0.0, 0.0};
+        for (std::int64_t q = 0; q < m; ++q) {
+          double* fj =
+              f + 3 * static_cast<std::int64_t>(half_neighbor_[static_cast<size_t>(b0 + q)]);
+          for (int a = 0; a < 3; ++a) {
+            fk[a] += 2.0 * t[3 * q + a];
+            fj[a] -= 2.0 * t[3 * q + a];
+          }
+        }
+        for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
       }
-      for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
     }
     // reduce the thread copies (each thread a slice of the dofs)
-    const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
+    if (used > 1) {
 #pragma omp barrier
 #pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < 3 * n; ++i) {
-      double s = 0.0;
-      for (int th = 0; th < used; ++th) s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-      f_[static_cast<size_t>(i)] = s;
+      for (std::int64_t i = 0; i < 3 * n; ++i) {
+        double s = 0.0;
+        for (int th = 0; th < used; ++th)
+          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+        f_[static_cast<size_t>(i)] = s;
+      }
     }
   }
   potential_ = energy;
 }
 
 void VelocityVerlet::evaluate() {
+  if (eam_) {
+    evaluate_eam();
+    return;
+  }
   if (half_) {
     evaluate_pairwise();
     return;
@@ -365,7 +675,8 @@ Thermo VelocityVerlet::thermo() const {
   t.kinetic = 0.5 * mvv2e_ * ke2;
   t.potential = potential_;
   t.total = t.kinetic + t.potential;
-  const double dof = std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));
+  const double dof =
+      std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));
   t.temperature = 2.0 * t.kinetic / (dof * boltz_);
   return t;
 }
@@ -379,31 +690,37 @@ struct DumpWriter::Impl {
 DumpWriter::DumpWriter(const std::string& path) : impl_(new Impl(path)) {}
 DumpWriter::~DumpWriter() { delete impl_; }
 
-void DumpWriter::write(const body::Body& body, std::int64_t step, std::span<const double> y, std::span<const double> v) {
+void DumpWriter::write(const body::Body& body, std::int64_t step, std::span<const double> y,
+                       std::span<const double> v) {
   const auto& b = body.box;
   auto& s = impl_->file.stream();
   const size_t n = body.size();
   const char* pf[3];
   for (int a = 0; a < 3; ++a) pf[a] = b.periodic[static_cast<size_t>(a)] ? "pp" : "ff";
   fmt::memory_buffer out;
-  fmt::format_to(std::back_inserter(out), "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\n", step, n);
+  fmt::format_to(std::back_inserter(out), "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\n", step,
+                 n);
   if (b.triclinic()) {
     const double xlo = b.lo[0] + std::min({0.0, b.xy, b.xz, b.xy + b.xz});
     const double xhi = b.hi[0] + std::max({0.0, b.xy, b.xz, b.xy + b.xz});
     const double ylo = b.lo[1] + std::min(0.0, b.yz), yhi = b.hi[1] + std::max(0.0, b.yz);
     fmt::format_to(std::back_inserter(out),
-                   "ITEM: BOX BOUNDS xy xz yz {} {} {}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} {:.17g}\n",
+                   "ITEM: BOX BOUNDS xy xz yz {} {} {}\n{:.17g} {:.17g} {:.17g}\n{:.17g} {:.17g} "
+                   "{:.17g}\n{:.17g} {:.17g} {:.17g}\n",
                    pf[0], pf[1], pf[2], xlo, xhi, b.xy, ylo, yhi, b.xz, b.lo[2], b.hi[2], b.yz);
   } else {
-    fmt::format_to(std::back_inserter(out), "ITEM: BOX BOUNDS {} {} {}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n",
+    fmt::format_to(std::back_inserter(out),
+                   "ITEM: BOX BOUNDS {} {} {}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n{:.17g} {:.17g}\n",
                    pf[0], pf[1], pf[2], b.lo[0], b.hi[0], b.lo[1], b.hi[1], b.lo[2], b.hi[2]);
   }
   fmt::format_to(std::back_inserter(out), "ITEM: ATOMS id type x y z ix iy iz vx vy vz\n");
   for (size_t k = 0; k < n; ++k) {
     Eigen::Vector3i img(0, 0, 0);
     const Eigen::Vector3d w = b.wrap(Eigen::Vector3d(y[3 * k], y[3 * k + 1], y[3 * k + 2]), img);
-    fmt::format_to(std::back_inserter(out), "{} {} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g} {:.17g} {:.17g}\n", body.id[k],
-                   body.type[k], w[0], w[1], w[2], img[0], img[1], img[2], v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+    fmt::format_to(std::back_inserter(out),
+                   "{} {} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g} {:.17g} {:.17g}\n", body.id[k],
+                   body.type[k], w[0], w[1], w[2], img[0], img[1], img[2], v[3 * k], v[3 * k + 1],
+                   v[3 * k + 2]);
   }
   s.write(out.data(), static_cast<std::streamsize>(out.size()));
 }

@@ -70,6 +70,28 @@ struct FamilyState {
   const int* bond_type = nullptr;  ///< n molecular bond types (0 = not bonded); nullptr = none
 };
 
+/// Read-only view of a native EAM potential's spline tables (PairEAM's internal form: 7
+/// coefficients per grid point m, [7m + 0..6] = spline[m][0..6]) for dedicated half-list loops
+/// (dynamics). Evaluated with the coefficient formulas of PairEAM::compute, as force_state does.
+/// Pointers are owned by the Potential and valid for its lifetime.
+struct EamView {
+  int ntypes = 0, nr = 0, nrho = 0;
+  double rdr = 0, rdrho = 0, rhomax = 0, cutforcesq = 0;
+  std::vector<const double*> rhor;  ///< [jt·(ntypes+1) + kt]: density of a jt atom at a kt atom
+  std::vector<const double*> z2r;   ///< [kt·(ntypes+1) + jt]: r·φ(r)
+  std::vector<const double*> frho;  ///< [kt]: embedding function
+};
+
+/// Half families (each pair once: bonds k→j with j > k, or one of the two bonds of a self
+/// image) in CSR form, for pair kernels that scatter to both ends. Borrowed pointers.
+struct HalfFamilies {
+  const std::int64_t* offset = nullptr;  ///< N+1
+  const std::int32_t* neighbor = nullptr;
+  const int* type = nullptr;       ///< N atom types (1-based)
+  const double* shift = nullptr;   ///< 3 per half bond: image shift H·n added to y_j − y_k
+  const double* factor = nullptr;  ///< per half bond special_bonds factor; nullptr = all 1
+};
+
 class Potential {
  public:
   virtual ~Potential() = default;
@@ -85,6 +107,18 @@ class Potential {
   virtual double force_state(const FamilyState& family, double* t) const = 0;
   /// True when ψ_k = ½ Σ_j φ(r_kj) with no many-body term (bond-based PD).
   virtual bool pairwise() const { return false; }
+  /// The EAM tables when ψ_k is exactly F_k(ρ̄_k) + ½ Σ_j φ(r_kj) (native eam styles without
+  /// molecular bonds); nullptr otherwise.
+  virtual const EamView* eam_view() const { return nullptr; }
+  /// True when half_pair_forces is available (native pair styles without molecular bonds).
+  virtual bool has_pair_kernel() const { return false; }
+  /// Pair forces of the half families of points k0 ≤ k < k1 at positions y (3N), added into
+  /// f (3N): per pair, with Y = y_j − y_k + shift and s the special factor,
+  /// f_k += s φ'(r)/r Y, f_j −= s φ'(r)/r Y; returns Σ s φ(r). Same operations as
+  /// force_state (LAMMPS's pair formulas), inlined per pair. Allocates nothing; thread-safe
+  /// for disjoint f. Only valid when has_pair_kernel() (std::logic_error otherwise).
+  virtual double half_pair_forces(const HalfFamilies& h, std::int64_t k0, std::int64_t k1,
+                                  const double* y, double* f) const;
 
   /// Doubles of scratch force_state_tangent needs for a family of n bonds.
   static std::size_t tangent_workspace(std::int64_t n) { return 9 * static_cast<std::size_t>(n); }

@@ -33,8 +33,8 @@
 namespace pdcg::dynamics {
 
 struct StableStep {
-  double omega_bound = 0.0;  ///< Gershgorin bound on ω_max (time units of the body)
-  double dt_stable = 0.0;    ///< 2 / omega_bound
+  double omega_bound = 0.0;      ///< Gershgorin bound on ω_max (time units of the body)
+  double dt_stable = 0.0;        ///< 2 / omega_bound
   std::int64_t critical_id = 0;  ///< atom id of the row attaining the bound
 };
 
@@ -52,7 +52,8 @@ void check_masses(const body::Body& body, const std::string& source);
 /// only the first `body.dimension` components non-zero, zero total momentum, then scaled so
 /// that the temperature with dof = d(N − 1) is exactly T (as LAMMPS `velocity create … loop
 /// geom` followed by `zero linear` and rescaling; not LAMMPS's own random stream).
-std::vector<double> thermal_velocities(const body::Body& body, double temperature, std::uint64_t seed);
+std::vector<double> thermal_velocities(const body::Body& body, double temperature,
+                                       std::uint64_t seed);
 
 /// Velocities of a configuration (dump with vx vy vz) matched to the body by atom id.
 /// InputError if the file has no velocities or its ids differ from the body's.
@@ -89,7 +90,8 @@ class VelocityVerlet {
  private:
   void evaluate();
   void evaluate_pairwise();
-  void setup_pairwise();
+  void evaluate_eam();
+  void setup_half();
   const body::Body& body_;
   /// Pairwise potentials (ψ_k = ½Σφ, t_jk(−Y) = −t_kj(Y)): each pair once through a half
   /// family (f_k += 2t_kj, f_j −= 2t_kj, energy 2ψ_half) instead of both bonds and a gather.
@@ -99,6 +101,12 @@ class VelocityVerlet {
   std::vector<int> half_type_, half_bond_type_;
   std::vector<double> half_shift_, half_factor_;  ///< H n_b per half bond; pair factors
   std::vector<std::vector<double>> thread_f_, thread_y_, thread_t_;
+  /// Native EAM without molecular bonds (Potential::eam_view): the LAMMPS scheme over the half
+  /// families, ρ̄ pass (scattered to both ends), F'(ρ̄) pass, force pass
+  /// f_k += s Y, f_j −= s Y, s = (F'_k ρ'_{j→k} + F'_j ρ'_{k→j} + φ')/r; no per-bond storage.
+  const atomistic::EamView* eam_ = nullptr;
+  std::vector<double> rho_, fp_;
+  std::vector<std::vector<double>> thread_rho_;
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;
@@ -112,7 +120,8 @@ class DumpWriter {
  public:
   explicit DumpWriter(const std::string& path);
   ~DumpWriter();
-  void write(const body::Body& body, std::int64_t step, std::span<const double> y, std::span<const double> v);
+  void write(const body::Body& body, std::int64_t step, std::span<const double> y,
+             std::span<const double> v);
   void commit();
 
  private:
