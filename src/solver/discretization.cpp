@@ -98,6 +98,7 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
           .fix("choose a spacing that divides the size");
   }
   const double dx = spec.spacing;
+  const bool vert = spec.nodes == GridNodes::vertices;
   const double slack = 1e-9 * dx;  // vertices on the boundary stay inside despite round-off
   auto inside = [&](const Vec3& p) {
     for (int a = 0; a < d; ++a)
@@ -106,11 +107,12 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
     for (const auto& h : spec.holes) {
       Vec3 r = p - h.center;
       if (d == 2) r.z() = 0;
-      if (r.norm() < h.radius) return false;
+      // Vertices on the circle are removed (kept, they stick out of the staircase as
+      // single points held by their families only).
+      if (r.norm() < h.radius * (vert ? 1 + 1e-9 : 1.0)) return false;
     }
     return true;
   };
-  const bool vert = spec.nodes == GridNodes::vertices;
   const long extra = vert ? 1 : 0;  // vertices: n + 1 points per axis
   const double shift = vert ? 0.0 : 0.5;
   std::vector<Vec3> x;

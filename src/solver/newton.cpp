@@ -155,6 +155,8 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
   // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
   // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
   solvers_->umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+  // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
+  solvers_->umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
 }
 
 void StaticSolver::external_force(double t, Eigen::VectorXd& fext) const {

@@ -5,6 +5,7 @@
 // displaced); times from the solver's own per-step report (summed over the Newton
 // iterations, divided by their number), peak RSS from getrusage.
 // Usage: bench_solver_newton <dim> <n> [linear=umfpack|cholmod|sparselu|bicgstab] [weak|energy]
+//        [tolerance=1e-8]  (a looser tolerance stops after fewer iterations at large sizes)
 // (energy: the symmetric energy boundary form, which CHOLMOD can factorise; the weak
 // form's tangent is unsymmetric and CHOLMOD is replaced by UMFPACK).
 #include <sys/resource.h>
@@ -68,7 +69,7 @@ int main(int argc, char** argv) {
   if (dim == 3) ds.push_back(pin2);
   NewtonOptions opt;
   opt.steps = 1;
-  opt.tolerance = 1e-8;
+  opt.tolerance = argc > 5 ? std::atof(argv[5]) : 1e-8;
   opt.linear = parse_linear_solver(linear);
   StaticSolver solver(M, ds, {}, opt);
   StepReport last;

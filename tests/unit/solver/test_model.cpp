@@ -216,8 +216,8 @@ TEST(Discretization, VertexGridVolumesFacesAndHomogeneousState) {
       EXPECT_NEAR(cells, std::round(cells), 1e-9);
       EXPECT_NEAR(removed, M_PI * 0.04, 0.02);  // staircase of a radius-0.2 hole at Δx = 0.05
     }
-    const auto mat = make_neo_hookean(
-        {1.0, 10.0}, dim == 2 ? Kinematics::plane_strain : Kinematics::three_d);
+    const auto mat =
+        make_neo_hookean({1.0, 10.0}, dim == 2 ? Kinematics::plane_strain : Kinematics::three_d);
     Mat3 F = Mat3::Identity();
     F(0, 0) = 1.6;
     F(0, 1) = 0.3;
