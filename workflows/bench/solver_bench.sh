@@ -9,7 +9,8 @@
 # Environment: SIZES_2D (points per edge, default "100 200 400" = 10⁴, 4·10⁴, 1.6·10⁵),
 #   SIZES_3D (default "10 14 18 22"; 22³ ≈ 10⁴; 37³ ≈ 5·10⁴), COMPARE_2D (default "100"),
 #   COMPARE_3D (default "10"): sizes at which CHOLMOD (energy form) and BiCGSTAB+ILUT also run,
-#   TOL (Newton tolerance, default 1e-8), OMP_NUM_THREADS (default: all cores).
+#   TOL (Newton tolerance, default 1e-8), OMP_NUM_THREADS (default: all cores). An empty
+#   list (SIZES_2D="") skips that part.
 set -euo pipefail
 source "$(dirname "$0")/../lib/setup.sh"
 pdcg_build_target() {  # configure once, build only the given targets
@@ -36,16 +37,16 @@ kv = dict(p.split("=") for p in sys.argv[1].split())
 print(",".join(kv[k] for k in sys.argv[2].split()))
 PY
 }
-for n in ${SIZES_2D:-100 200 400}; do
+for n in ${SIZES_2D-100 200 400}; do
   run 2 "$n" umfpack weak
-  if [[ " ${COMPARE_2D:-100} " == *" $n "* ]]; then
+  if [[ " ${COMPARE_2D-100} " == *" $n "* ]]; then
     run 2 "$n" cholmod energy
     run 2 "$n" bicgstab weak
   fi
 done
-for n in ${SIZES_3D:-10 14 18 22}; do
+for n in ${SIZES_3D-10 14 18 22}; do
   run 3 "$n" umfpack weak
-  if [[ " ${COMPARE_3D:-10} " == *" $n "* ]]; then
+  if [[ " ${COMPARE_3D-10} " == *" $n "* ]]; then
     run 3 "$n" cholmod energy
     run 3 "$n" bicgstab weak
   fi
