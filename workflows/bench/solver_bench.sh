@@ -29,7 +29,8 @@ KEYS="dim n points linear form newton_iterations assembly_s_per_it factor_s_per_
 echo "${KEYS// /,}" >>"$CSV"
 run() {
   local line
-  line=$("$BIN" "$@" "${TOL:-1e-8}")
+  # (CHOLMOD prints its warnings on stdout: keep the result line only)
+  line=$("$BIN" "$@" "${TOL:-1e-8}" | grep '^dim=')
   echo "$line"
   /usr/bin/python3 - "$line" "$KEYS" >>"$CSV" <<'PY'
 import sys
