@@ -131,7 +131,7 @@ double max_deviation_from_fem(double default_spacing) {
 }  // namespace
 
 #ifdef PDCG_PLATE_ACCEPTANCE
-// Issue 6 acceptance: 2% at every step, at Δx = 0.0125 (5 616 points). Measured: pdcg is
+// Issue 6 acceptance: 2% at every step, at Δx = 0.0125 (5 588 points). Measured: pdcg is
 // 1.58% … 1.98% below FEM (largest at d = 1); at Δx = 0.05 / 0.025 the deviation is
 // 4.6% / 3.6%: the error converges with Δx (docs/validation.md, convergence table).
 // Executable test_validation_acceptance, label `slow` (minutes).
