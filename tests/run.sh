@@ -7,4 +7,7 @@ source "$(dirname "$0")/../workflows/lib/setup.sh"
 pdcg_install_dependencies
 pdcg_build
 cd "$PDCG_BUILD"
+# ctest -j2 runs two tests at once, each with OpenMP threads, on a 2-core machine: idle
+# OpenMP threads must sleep, not spin, or they steal the cores of the other test.
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-PASSIVE}
 ctest --output-on-failure -j"${PDCG_JOBS:-2}" --timeout 1200 "$@"

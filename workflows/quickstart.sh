@@ -6,7 +6,11 @@
 # Steps (each prints what it did; results in results/quickstart/):
 #   1. install missing Debian packages, configure and build into build/
 #   2. LAMMPS: a perturbed FCC Lennard-Jones crystal (atomistics/lj_fcc), its forces and energies
-#   3. pdcg: the pipeline stages available in this version (see docs/status.md)
+#   3. pdcg: inspect, delta body (forces vs LAMMPS), homogenise, rescale, dispersion, BA plate
+#   4. flagship (docs/flagship.md): 2D triangular LJ sheet relaxed by LAMMPS, its delta body
+#      (forces vs LAMMPS), coarse model (homogenised + rescaled), dispersion atoms vs coarse, a
+#      notched coarse sheet pulled to rupture by the BA solver with the Cauchy–Born material,
+#      and LAMMPS MD fracture of the same sheet; report.md + PNGs + a summary on stdout
 set -euo pipefail
 source "$(dirname "$0")/lib/setup.sh"
 pdcg_install_dependencies

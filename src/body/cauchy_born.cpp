@@ -56,6 +56,98 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     ++multiplicity_[static_cast<std::size_t>(it->second)];
   }
   classes_ = classes.size();
+  // per-class weights of evaluate(): w_k = Σ_p w_kp (homogenised) or 1
+  std::vector<double> wk(body.size(), 1.0);
+  if (body.homogenisation) {
+    const auto& h = *body.homogenisation;
+    std::fill(wk.begin(), wk.end(), 0.0);
+    for (std::size_t q = 0; q < h.size(); ++q)
+      for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
+        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
+            h.weight[static_cast<std::size_t>(c)];
+  }
+  std::map<std::int32_t, std::size_t> slot;
+  for (std::size_t k = 0; k < body.size(); ++k) {
+    const auto [it, fresh] = slot.emplace(representative_[k], reps_.size());
+    if (fresh) {
+      reps_.push_back(representative_[k]);
+      rep_weight_.push_back(0.0);
+    }
+    rep_weight_[it->second] += wk[k];
+    nmax_ = std::max(nmax_, fam.offset[k + 1] - fam.offset[k]);
+  }
+}
+
+struct CauchyBorn::Scratch {
+  std::vector<double> Y, t, K, work, M;
+  std::vector<int> nt;
+  void size(std::int64_t nmax, bool tangent) {
+    const auto n = static_cast<std::size_t>(nmax);
+    if (Y.size() < 3 * n) {
+      Y.resize(3 * n);
+      t.resize(3 * n);
+      nt.resize(n);
+    }
+    if (tangent && M.size() < 27 * n) {
+      K.resize(9 * n * n);
+      work.resize(atomistic::Potential::tangent_workspace(nmax));
+      M.resize(27 * n);
+    }
+  }
+};
+
+void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, Scratch& s,
+                        double& psi, double* pk, double* ak) const {
+  const auto& fam = body_.families;
+  const auto& pot = *body_.potential;
+  const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
+  const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
+  const double* xi = fam.xi.data() + 3 * b0;
+  for (std::int64_t b = 0; b < n; ++b) {
+    const auto bb = static_cast<std::size_t>(b);
+    s.nt[bb] = body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
+    for (int i = 0; i < 3; ++i)
+      s.Y[3 * bb + static_cast<std::size_t>(i)] =
+          F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2];
+  }
+  atomistic::FamilyState f;
+  f.type = body_.type[static_cast<std::size_t>(k)];
+  f.size = n;
+  f.neighbor_type = s.nt.data();
+  f.bond = s.Y.data();
+  f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+  f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+  psi = pot.force_state(f, s.t.data());
+  std::fill(pk, pk + 9, 0.0);
+  for (std::int64_t b = 0; b < n; ++b)
+    for (int i = 0; i < 3; ++i)
+      for (int J = 0; J < 3; ++J)
+        pk[3 * i + J] += s.t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
+  if (!tangent) return;
+  pot.force_state_tangent(f, s.K.data(), s.work.data());
+  std::fill(s.M.begin(), s.M.begin() + 27 * n, 0.0);
+  for (std::int64_t b = 0; b < n; ++b) {
+    double* mb = s.M.data() + 27 * b;
+    for (std::int64_t c = 0; c < n; ++c) {
+      const double* kb = s.K.data() + 9 * (b * n + c);
+      if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 && kb[2] == 0.0 &&
+          kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
+        continue;  // pair potentials: only diagonal blocks
+      const double* xc = xi + 3 * c;
+      for (int ik = 0; ik < 9; ++ik)
+        for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
+    }
+  }
+  std::fill(ak, ak + 81, 0.0);
+  for (std::int64_t b = 0; b < n; ++b) {
+    const double* mb = s.M.data() + 27 * b;
+    const double* xb = xi + 3 * b;
+    for (int i = 0; i < 3; ++i)
+      for (int J = 0; J < 3; ++J)
+        for (int kk = 0; kk < 3; ++kk)
+          for (int L = 0; L < 3; ++L)
+            ak[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * mb[3 * (3 * i + kk) + L];
+  }
 }
 
 void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
@@ -154,6 +246,30 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
 }
 
 CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) const {
+  if (reps_.size() <= 64) {
+    // Few distinct environments (perfect crystals, their coarse models): one family per class,
+    // weighted by Σ w_k over the class; serial and allocation-free after the first call of the
+    // thread (the BA solver calls this once per bond stencil, from its own OpenMP loop).
+    thread_local Scratch scratch;
+    scratch.size(nmax_, tangent);
+    CauchyBornState s;
+    double psi = 0, p9[9], a81[81];
+    for (std::size_t c = 0; c < reps_.size(); ++c) {
+      family(reps_[c], F, tangent, scratch, psi, p9, a81);
+      const double w = rep_weight_[c];
+      s.W += w * psi;
+      for (int i = 0; i < 3; ++i)
+        for (int J = 0; J < 3; ++J) s.P(i, J) += w * p9[3 * i + J];
+      if (tangent)
+        for (int r = 0; r < 9; ++r)
+          for (int q = 0; q < 9; ++q) s.A(r, q) += w * a81[9 * r + q];
+    }
+    const double V = body_.reference_volume();
+    s.W /= V;
+    s.P /= V;
+    s.A /= V;
+    return s;
+  }
   std::vector<double> psi, p, a;
   per_atom(F, tangent, psi, p, a);
   CauchyBornState s;

@@ -31,11 +31,16 @@ LatticeGuess detect_lattice(const body::Body& b, std::size_t k) {
   LatticeGuess g;
   g.nearest = dmin;
   g.coordination = z;
-  if (z == 2 && linear) g = {"chain", dmin, dmin, z};
-  else if (z == 6 && planar) g = {"hex", dmin, dmin, z};
-  else if (z == 6) g = {"sc", dmin, dmin, z};
-  else if (z == 8) g = {"bcc", 2.0 * dmin / std::sqrt(3.0), dmin, z};
-  else if (z == 12) g = {"fcc", std::sqrt(2.0) * dmin, dmin, z};
+  if (z == 2 && linear)
+    g = {"chain", dmin, dmin, z};
+  else if (z == 6 && planar)
+    g = {"hex", dmin, dmin, z};
+  else if (z == 6)
+    g = {"sc", dmin, dmin, z};
+  else if (z == 8)
+    g = {"bcc", 2.0 * dmin / std::sqrt(3.0), dmin, z};
+  else if (z == 12)
+    g = {"fcc", std::sqrt(2.0) * dmin, dmin, z};
   else
     throw InputError("cannot tell the Bravais lattice from the nearest-neighbour shell")
         .key("--path")
@@ -60,7 +65,8 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
     std::size_t best = 0;
     double d2 = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < pts.size() / 3; ++i) {
-      const double dd = (Eigen::Vector3d(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]) - c).squaredNorm();
+      const double dd =
+          (Eigen::Vector3d(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]) - c).squaredNorm();
       if (dd < d2) {
         d2 = dd;
         best = i;
@@ -71,26 +77,36 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
   std::vector<std::int32_t> atoms;
   if (cell) {
     if (!b.periodic())
-      throw InputError("cell dispersion needs a periodic body").key("--cell").expected("a periodic box");
+      throw InputError("cell dispersion needs a periodic body")
+          .key("--cell")
+          .expected("a periodic box");
     description_ = fmt::format("periodic cell of {} atoms (3N = {} branches)", n, 3 * n);
   } else if (b.homogenisation) {
     const auto& h = *b.homogenisation;
     const std::size_t p = point ? *point : nearest_centre(h.points);
     if (p >= h.size())
-      throw InputError("point index out of range").key("--point").value(std::to_string(p))
+      throw InputError("point index out of range")
+          .key("--point")
+          .value(std::to_string(p))
           .expected(fmt::format("0 … {}", h.size() - 1));
     for (auto i = h.offset[p]; i < h.offset[p + 1]; ++i) {
-      site_.emplace_back(h.atom[static_cast<std::size_t>(i)], h.weight[static_cast<std::size_t>(i)]);
+      site_.emplace_back(h.atom[static_cast<std::size_t>(i)],
+                         h.weight[static_cast<std::size_t>(i)]);
       atoms.push_back(h.atom[static_cast<std::size_t>(i)]);
     }
     if (site_.empty())
-      throw InputError("homogenised point carries no atoms").key("--point").value(std::to_string(p));
+      throw InputError("homogenised point carries no atoms")
+          .key("--point")
+          .value(std::to_string(p));
     representative_ = static_cast<std::size_t>(site_.front().first);
-    description_ = fmt::format("homogenised point {} ({} atoms, kernel {})", p, site_.size(), h.kernel);
+    description_ =
+        fmt::format("homogenised point {} ({} atoms, kernel {})", p, site_.size(), h.kernel);
   } else {
     const std::size_t k = point ? *point : nearest_centre(b.x);
     if (k >= n)
-      throw InputError("point index out of range").key("--point").value(std::to_string(k))
+      throw InputError("point index out of range")
+          .key("--point")
+          .value(std::to_string(k))
           .expected(fmt::format("0 … {}", n - 1));
     site_.emplace_back(static_cast<std::int32_t>(k), 1.0);
     atoms.push_back(static_cast<std::int32_t>(k));
@@ -104,6 +120,16 @@ Eigen::VectorXd BodyDispersion::omega(const Eigen::Vector3d& kappa) const {
   const double mvv2e = unit_constants(body_.units).mvv2e;
   if (cell_) return cell_omega(*lin_, body_.mass, kappa, mvv2e);
   return point_omega(*lin_, site_, body_.mass, kappa, mvv2e);
+}
+
+KappaGrid BodyDispersion::grid() const {
+  if (cell_)
+    throw InputError("--grid works for one point of a Bravais-lattice body, not in cell mode")
+        .key("--grid")
+        .value("--cell")
+        .expected("--grid without --cell")
+        .fix("drop --cell, or use --direction/--path with --cell");
+  return point_omega_grid(*lin_, site_, body_.mass, body_.box, unit_constants(body_.units).mvv2e);
 }
 
 }  // namespace pdcg::dispersion

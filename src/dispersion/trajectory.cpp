@@ -58,6 +58,17 @@ LatticePlanes find_planes(const std::vector<double>& ref, const atomistic::Box& 
     first.pop_back();
   }
   lp.planes = first.size();
+  if (lp.planes < 2)
+    throw InputError("all atoms lie in one lattice plane normal to the wave axis")
+        .source(source)
+        .key("--axis")
+        .value(fmt::format("{} ({} atoms, 1 plane)", axis_name(axis), n))
+        .expected(
+            "an axis along which the atoms are spread over several lattice planes (a chain: its "
+            "direction)")
+        .fix(
+            "choose the lattice direction of the wave as --axis (the chain direction for a 1D "
+            "chain)");
   lp.spacing = L / static_cast<double>(lp.planes);
   for (std::size_t p = 0; p < lp.planes; ++p) {
     const double expect = first[0] + static_cast<double>(p) * lp.spacing;
@@ -65,18 +76,23 @@ LatticePlanes find_planes(const std::vector<double>& ref, const atomistic::Box& 
       throw InputError("lattice planes normal to the axis are not evenly spaced")
           .source(source)
           .key("--axis")
-          .value(fmt::format("plane {} at {:.6g}, expected {:.6g} (spacing {:.6g})", p, first[p], expect, lp.spacing))
+          .value(fmt::format("plane {} at {:.6g}, expected {:.6g} (spacing {:.6g})", p, first[p],
+                             expect, lp.spacing))
           .expected("a perfect lattice (time-averaged positions) along the axis")
-          .fix("pick a lattice direction as the axis, or a trajectory of a crystal without defects");
+          .fix(
+              "pick a lattice direction as the axis, or a trajectory of a crystal without defects");
   }
   return lp;
 }
 
 Spectrum measure(const std::vector<atomistic::Atoms>& frames, const TrajectoryOptions& opt) {
-  if (frames.empty()) throw InputError("no frames").source(opt.source).expected("a trajectory with frames");
+  if (frames.empty())
+    throw InputError("no frames").source(opt.source).expected("a trajectory with frames");
   const std::size_t n = frames[0].size();
   if (frames[0].x.size() != 3 * n)
-    throw InputError("trajectory has no positions").source(opt.source).expected("x y z (or xu/xs) columns");
+    throw InputError("trajectory has no positions")
+        .source(opt.source)
+        .expected("x y z (or xu/xs) columns");
   const atomistic::Box& box = frames[0].box;
   const auto a = static_cast<std::size_t>(opt.axis), comp = static_cast<std::size_t>(opt.component);
   const Eigen::Vector3d L = box.lengths();
@@ -93,7 +109,8 @@ Spectrum measure(const std::vector<atomistic::Atoms>& frames, const TrajectoryOp
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t k = 0; k < 3; ++k) {
         double v = f.x[3 * i + k] - frames[0].x[3 * i + k];
-        if (box.periodic[k]) v -= L[static_cast<Eigen::Index>(k)] * std::round(v / L[static_cast<Eigen::Index>(k)]);
+        if (box.periodic[k])
+          v -= L[static_cast<Eigen::Index>(k)] * std::round(v / L[static_cast<Eigen::Index>(k)]);
         d[(t * n + i) * 3 + k] = v;
         mean[3 * i + k] += v / static_cast<double>(frames.size());
       }
@@ -103,21 +120,50 @@ Spectrum measure(const std::vector<atomistic::Atoms>& frames, const TrajectoryOp
   const LatticePlanes lp = find_planes(ref, box, opt.axis, opt.source);
   std::vector<double> u(frames.size() * lp.planes, 0.0), count(lp.planes, 0.0);
   for (std::size_t i = 0; i < n; ++i) count[static_cast<std::size_t>(lp.plane_of_atom[i])] += 1.0;
+  // Transverse lattice spacing: (area per atom of a plane over the periodic transverse
+  // directions)^(1/p); a chain (no periodic transverse direction) has only its spacing h.
+  double across = 1.0;
+  int p_across = 0;
+  for (std::size_t k = 0; k < 3; ++k)
+    if (k != a && box.periodic[k]) {
+      across *= L[static_cast<Eigen::Index>(k)];
+      ++p_across;
+    }
+  const double per_plane = static_cast<double>(n) / static_cast<double>(lp.planes);
+  const double transverse_spacing =
+      p_across == 0 ? lp.spacing
+                    : std::pow(across / per_plane, 1.0 / static_cast<double>(p_across));
   for (std::size_t t = 0; t < frames.size(); ++t)
     for (std::size_t i = 0; i < n; ++i) {
+      double side2 = 0.0;
+      for (std::size_t k = 0; k < 3; ++k)
+        if (k != a) side2 += std::pow(d[(t * n + i) * 3 + k] - mean[3 * i + k], 2);
+      if (std::sqrt(side2) > 0.5 * transverse_spacing)
+        throw InputError("an atom left the wave axis (moved sideways off its lattice site)")
+            .source(opt.source)
+            .key(fmt::format("atom id {} in frame {}", frames[0].id[i], t))
+            .value(fmt::format("{:.4g} from its mean position across the axis {}", std::sqrt(side2),
+                               axis_name(opt.axis)))
+            .expected(fmt::format("less than half the transverse lattice spacing {:.4g}",
+                                  0.5 * transverse_spacing))
+            .fix(
+                "measure a solid whose atoms vibrate about their sites; for a chain keep the "
+                "motion along it "
+                "(LAMMPS: fix setforce NULL 0 0) and give the chain direction as --axis");
       const double along = d[(t * n + i) * 3 + a] - mean[3 * i + a];
       if (std::abs(along) > 0.5 * lp.spacing)
         throw InputError("an atom left its lattice plane")
             .source(opt.source)
             .key(fmt::format("atom id {} in frame {}", frames[0].id[i], t))
-            .value(fmt::format("{:.4g} from its mean position along {}", along, axis_name(opt.axis)))
+            .value(
+                fmt::format("{:.4g} from its mean position along {}", along, axis_name(opt.axis)))
             .expected(fmt::format("less than half the plane spacing {:.4g}", 0.5 * lp.spacing))
             .fix("measure a solid at a temperature where atoms vibrate about lattice sites");
       const auto p = static_cast<std::size_t>(lp.plane_of_atom[i]);
       u[t * lp.planes + p] += (d[(t * n + i) * 3 + comp] - mean[3 * i + comp]) / count[p];
     }
-  return space_time_spectrum(u, frames.size(), lp.planes, lp.spacing, opt.frame_interval, opt.window,
-                             opt.min_resolution);
+  return space_time_spectrum(u, frames.size(), lp.planes, lp.spacing, opt.frame_interval,
+                             opt.window, opt.min_resolution);
 }
 
 }  // namespace pdcg::dispersion

@@ -1,20 +1,24 @@
 #include "pdcg/scene/expression.hpp"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <vector>
 
 #include "pdcg/core/error.hpp"
 
 namespace pdcg::scene {
 namespace {
 
-using Fn = std::function<double(double)>;
+using Fn = std::function<double(const double*)>;
 
 class Parser {
  public:
-  Parser(const std::string& s, const std::string& where) : s_(s), where_(where) {}
+  Parser(const std::string& s, const std::string& where, const std::vector<std::string>& vars)
+      : s_(s), where_(where), vars_(vars) {}
   Fn parse() {
     Fn f = expr();
     skip();
@@ -29,7 +33,9 @@ class Parser {
         .key(where_)
         .value(s_)
         .expected(
-            "a number or an expression in t, e.g. \"0.5*t\" (+ - * / ^, sin cos exp log sqrt abs)");
+            fmt::format("a number or an expression in {}, e.g. \"0.5*{}\" (+ - * / ^, pi, sin cos "
+                        "tan exp log sqrt abs)",
+                        fmt::join(vars_, ", "), vars_.empty() ? "1" : vars_.front()));
   }
   void skip() {
     while (p_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[p_]))) ++p_;
@@ -47,10 +53,10 @@ class Parser {
     for (;;) {
       if (eat('+')) {
         Fn b = term();
-        a = [a, b](double t) { return a(t) + b(t); };
+        a = [a, b](const double* t) { return a(t) + b(t); };
       } else if (eat('-')) {
         Fn b = term();
-        a = [a, b](double t) { return a(t) - b(t); };
+        a = [a, b](const double* t) { return a(t) - b(t); };
       } else {
         return a;
       }
@@ -61,10 +67,10 @@ class Parser {
     for (;;) {
       if (eat('*')) {
         Fn b = unary();
-        a = [a, b](double t) { return a(t) * b(t); };
+        a = [a, b](const double* t) { return a(t) * b(t); };
       } else if (eat('/')) {
         Fn b = unary();
-        a = [a, b](double t) { return a(t) / b(t); };
+        a = [a, b](const double* t) { return a(t) / b(t); };
       } else {
         return a;
       }
@@ -75,14 +81,14 @@ class Parser {
     Fn a = primary();
     if (eat('^')) {
       Fn b = unary();
-      return [a, b](double t) { return std::pow(a(t), b(t)); };
+      return [a, b](const double* t) { return std::pow(a(t), b(t)); };
     }
     return a;
   }
   Fn unary() {
     if (eat('-')) {
       Fn a = unary();
-      return [a](double t) { return -a(t); };
+      return [a](const double* t) { return -a(t); };
     }
     if (eat('+')) return unary();
     return power();
@@ -100,13 +106,14 @@ class Parser {
       const double v = std::strtod(b, &e);
       if (e == b) fail("bad number");
       p_ += static_cast<std::size_t>(e - b);
-      return [v](double) { return v; };
+      return [v](const double*) { return v; };
     }
     std::string name;
     while (p_ < s_.size() && (std::isalpha(static_cast<unsigned char>(s_[p_])) || s_[p_] == '_'))
       name += s_[p_++];
-    if (name == "t") return [](double t) { return t; };
-    if (name == "pi") return [](double) { return M_PI; };
+    for (std::size_t k = 0; k < vars_.size(); ++k)
+      if (name == vars_[k]) return [k](const double* t) { return t[k]; };
+    if (name == "pi") return [](const double*) { return M_PI; };
     double (*f)(double) = nullptr;
     if (name == "sin")
       f = [](double x) { return std::sin(x); };
@@ -123,21 +130,30 @@ class Parser {
     else if (name == "abs")
       f = [](double x) { return std::abs(x); };
     if (!f)
-      fail(name.empty() ? "expected a number, t or a function" : "unknown name '" + name + "'");
+      fail(name.empty() ? "expected a number, a variable or a function"
+                        : "unknown name '" + name + "'");
     if (!eat('(')) fail("expected '(' after " + name);
     Fn a = expr();
     if (!eat(')')) fail("missing ')'");
-    return [f, a](double t) { return f(a(t)); };
+    return [f, a](const double* t) { return f(a(t)); };
   }
   const std::string& s_;
   std::string where_;
+  std::vector<std::string> vars_;
   std::size_t p_ = 0;
 };
 
 }  // namespace
 
 std::function<double(double)> parse_expression(const std::string& text, const std::string& where) {
-  return Parser(text, where).parse();
+  Fn f = Parser(text, where, {"t"}).parse();
+  return [f](double t) { return f(&t); };
+}
+
+std::function<double(const double*)> parse_expression(const std::string& text,
+                                                      const std::string& where,
+                                                      const std::vector<std::string>& variables) {
+  return Parser(text, where, variables).parse();
 }
 
 }  // namespace pdcg::scene

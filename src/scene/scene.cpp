@@ -5,16 +5,22 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <set>
 #include <sstream>
 
+#include "pdcg/body/cauchy_born_material.hpp"
+#include "pdcg/body/model_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
+#include "pdcg/core/progress.hpp"
 #include "pdcg/io/atomic_output.hpp"
 #include "pdcg/io/hdf5.hpp"
 #include "pdcg/scene/expression.hpp"
+#include "pdcg/solver/explicit.hpp"
 
 namespace pdcg::scene {
 
@@ -98,6 +104,48 @@ std::function<double(double)> value_fn(const Ctx& c, const YAML::Node& n, const 
     return parse_expression(text, key);
   } catch (InputError& e) {
     throw e.source(c.file).line(n.Mark().line + 1);
+  }
+}
+
+// `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
+// read here once so that a bad file, a statistical body or a dimension mismatch is an input
+// error of the scene (with its line), not a failure at run time.
+void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::path& scene_file,
+                      Scene& s) {
+  for (const char* k : {"shear_modulus", "bulk_modulus"})
+    if (m[k])
+      throw c
+          .err(m[k], std::string("material.") + k,
+               "the Cauchy–Born material takes its moduli from the model file")
+          .fix(fmt::format("remove material.{}", k));
+  if (!m["file"])
+    throw c.err(m, "material.file", "missing key")
+        .expected("the pdcg model file, e.g. file: res.h5 (relative to the scene file)");
+  std::filesystem::path f = c.text(m["file"], "material.file");
+  if (f.is_relative()) f = std::filesystem::absolute(scene_file.parent_path() / f);
+  s.material_file = f;
+  std::shared_ptr<const body::Body> b;
+  try {
+    b = std::make_shared<const body::Body>(body::read_body(f));
+    body::CauchyBornMaterial probe(b, f.string());  // refuses statistical bodies
+    (void)probe;
+  } catch (InputError& e) {
+    throw e.line(m["file"].Mark().line + 1).key("material.file");
+  }
+  if (b->dimension != s.dimension)
+    throw c.err(m["file"], "material.file", "the model's dimension differs from the scene's")
+        .value(fmt::format("a {}D model in a {}D scene", b->dimension, s.dimension))
+        .fix(fmt::format("set dimension: {} (a 2D model is its own areal plane-strain "
+                         "material; a 3D model needs a 3D scene)",
+                         b->dimension));
+  if (s.dimension == 2 && s.plane != "strain")
+    throw c.err(m, "plane", "a 2D Cauchy–Born model is a plane-strain (areal) material")
+        .value(s.plane)
+        .fix("set plane: strain");
+  if (!m["density"]) {
+    double mass = 0;
+    for (double v : b->mass) mass += v;
+    s.density = mass / b->reference_volume();
   }
 }
 
@@ -221,20 +269,30 @@ Scene load_scene(const std::filesystem::path& file) {
   }
   // material
   if (const auto m = root["material"]) {
-    c.keys(m, "material", {"model", "shear_modulus", "bulk_modulus", "density"});
-    if (m["model"]) c.choice(m["model"], "material.model", {"neo-hookean"});
-    if (m["shear_modulus"])
-      s.shear_modulus = c.number(m["shear_modulus"], "material.shear_modulus");
-    if (m["bulk_modulus"]) s.bulk_modulus = c.number(m["bulk_modulus"], "material.bulk_modulus");
+    c.keys(m, "material", {"model", "shear_modulus", "bulk_modulus", "density", "file"});
+    if (m["model"])
+      s.material_model = c.choice(m["model"], "material.model", {"neo-hookean", "cauchy-born"});
     if (m["density"]) s.density = c.number(m["density"], "material.density");
-    if (!(s.shear_modulus > 0) || !(s.bulk_modulus > 0))
-      throw c.err(m, "material", "moduli must be positive")
-          .value(fmt::format("mu = {}, K = {}", s.shear_modulus, s.bulk_modulus));
+    if (s.material_model == "cauchy-born") {
+      load_cauchy_born(c, m, file, s);
+    } else {
+      if (m["file"])
+        throw c.err(m["file"], "material.file", "a model file is for the Cauchy–Born material")
+            .fix("remove material.file, or set material.model: cauchy-born");
+      if (m["shear_modulus"])
+        s.shear_modulus = c.number(m["shear_modulus"], "material.shear_modulus");
+      if (m["bulk_modulus"]) s.bulk_modulus = c.number(m["bulk_modulus"], "material.bulk_modulus");
+      if (!(s.shear_modulus > 0) || !(s.bulk_modulus > 0))
+        throw c.err(m, "material", "moduli must be positive")
+            .value(fmt::format("mu = {}, K = {}", s.shear_modulus, s.bulk_modulus));
+    }
   } else {
     throw InputError("missing section")
         .source(c.file)
         .key("material")
-        .expected("material: {model: neo-hookean, shear_modulus, bulk_modulus}");
+        .expected(
+            "material: {model: neo-hookean, shear_modulus, bulk_modulus} or "
+            "{model: cauchy-born, file: model.h5}");
   }
   // boundary
   const auto b = root["boundary"];
@@ -326,10 +384,21 @@ Scene load_scene(const std::filesystem::path& file) {
       throw c.err(v["tolerance"], "solver.tolerance", "tolerance must be positive");
   }
   if (const auto o = root["output"]) {
-    c.keys(o, "output", {"directory", "every"});
+    c.keys(o, "output", {"directory", "every", "series_every", "checkpoint_every"});
     if (o["directory"]) s.output_directory = c.text(o["directory"], "output.directory");
     if (o["every"]) s.output_every = c.integer(o["every"], "output.every");
     if (s.output_every < 1) throw c.err(o["every"], "output.every", "must be at least 1");
+    if (o["series_every"]) {
+      s.series_every = c.integer(o["series_every"], "output.series_every");
+      if (s.series_every < 1)
+        throw c.err(o["series_every"], "output.series_every", "must be at least 1");
+    }
+    if (o["checkpoint_every"]) {
+      s.checkpoint_every = c.integer(o["checkpoint_every"], "output.checkpoint_every");
+      if (s.checkpoint_every < 1)
+        throw c.err(o["checkpoint_every"], "output.checkpoint_every", "must be at least 1")
+            .fix("remove checkpoint_every for no checkpoints");
+    }
   }
   // effects (docs/effects.md)
   if (const auto e = root["effects"]) {
@@ -363,13 +432,134 @@ Scene load_scene(const std::filesystem::path& file) {
              "damping without inertia: damping acts on velocities, which a quasi-static run "
              "does not have")
         .fix("add inertia to effects (damped dynamics), or remove damping");
-  for (const char* eff : {"inertia", "damping"})
-    if (has(eff))
+  if (has("inertia")) {
+    s.inertia = true;
+    const auto in = root["inertia"];
+    if (!in)
+      throw c.err(root["effects"], "inertia", "inertia is listed but has no settings")
+          .expected(
+              "inertia: {integrator: velocity-verlet, time_step: auto, safety: 0.8, "
+              "end_time: 10.0}");
+    c.keys(in, "inertia", {"integrator", "time_step", "safety", "end_time", "allow_unstable"});
+    if (in["integrator"])
+      s.integrator = c.choice(in["integrator"], "inertia.integrator", {"velocity-verlet"});
+    if (in["time_step"] && !(in["time_step"].IsScalar() && in["time_step"].Scalar() == "auto")) {
+      s.time_step = c.number(in["time_step"], "inertia.time_step");
+      if (!(s.time_step > 0))
+        throw c.err(in["time_step"], "inertia.time_step", "the time step must be positive")
+            .value(in["time_step"].Scalar())
+            .expected("auto or a positive number");
+      if (in["safety"])
+        throw c
+            .err(in["safety"], "inertia.safety",
+                 "safety applies to time_step: auto only (the step is safety × the stable "
+                 "limit); with a given time_step it would be ignored")
+            .fix("remove safety, or set time_step: auto");
+    }
+    if (in["safety"]) {
+      s.safety = c.number(in["safety"], "inertia.safety");
+      if (!(s.safety > 0 && s.safety <= 1))
+        throw c.err(in["safety"], "inertia.safety", "safety factor outside (0, 1]")
+            .value(in["safety"].Scalar())
+            .expected("0 < safety ≤ 1, e.g. 0.8 (1 is the stable limit itself)");
+    }
+    if (!in["end_time"])
+      throw c.err(in, "inertia.end_time", "missing key")
+          .expected("the simulated time at which the run ends, e.g. end_time: 10.0");
+    s.end_time = c.number(in["end_time"], "inertia.end_time");
+    if (!(s.end_time > 0))
+      throw c.err(in["end_time"], "inertia.end_time", "end_time must be positive")
+          .value(in["end_time"].Scalar());
+    if (in["allow_unstable"]) {
+      try {
+        s.allow_unstable = in["allow_unstable"].as<bool>();
+      } catch (const YAML::Exception&) {
+        throw c.err(in["allow_unstable"], "inertia.allow_unstable", "not a boolean")
+            .value(in["allow_unstable"].IsScalar() ? in["allow_unstable"].Scalar() : "")
+            .expected("true or false");
+      }
+      if (s.allow_unstable && !(s.time_step > 0))
+        throw c
+            .err(in["allow_unstable"], "inertia.allow_unstable",
+                 "allow_unstable needs a given time_step (time_step: auto is always stable)")
+            .fix("give time_step: <value>, or remove allow_unstable");
+    }
+    if (root["loading"])
+      throw c
+          .err(root["loading"], "loading",
+               "loading.steps is for quasi-static runs: with inertia, t in the boundary values is "
+               "the time, and inertia.end_time ends the run")
+          .fix("remove the loading section");
+    for (const auto& bc : s.boundary)
+      if (bc.is_traction)
+        throw InputError(
+            "traction boundary conditions are not applied in explicit dynamics "
+            "(not implemented in this build)")
+            .source(c.file)
+            .key("boundary[" + bc.name + "].traction")
+            .fix("use displacement conditions, or remove inertia (quasi-static)");
+    if (has("rupture"))
       throw c
           .err(root["effects"], "effects",
-               fmt::format("the effect '{}' is not implemented in this build of pdcg", eff))
-          .value(eff)
-          .expected("effects: [rupture] (quasi-static with rupture) or no effects");
+               "rupture with inertia (dynamic fracture) is not implemented in this build; "
+               "quasi-static rupture is")
+          .fix("remove inertia (quasi-static rupture with staggered re-equilibration)");
+  }
+  if (!s.inertia && root["output"] && root["output"]["series_every"])
+    throw c
+        .err(root["output"]["series_every"], "output.series_every",
+             "series_every samples the energy time series of dynamic runs; a quasi-static run "
+             "writes reactions.csv at every load step")
+        .fix("remove series_every, or add inertia to effects");
+  if (has("damping")) {
+    const auto dn = root["damping"];
+    if (!dn)
+      throw c.err(root["effects"], "damping", "damping is listed but has no settings")
+          .expected(
+              "damping: {type: viscous, coefficient: 0.1} or "
+              "{type: adaptive-dynamic-relaxation}");
+    c.keys(dn, "damping", {"type", "coefficient"});
+    if (!dn["type"])
+      throw c.err(dn, "damping.type", "missing key")
+          .expected("type: viscous or type: adaptive-dynamic-relaxation");
+    s.damping_type =
+        c.choice(dn["type"], "damping.type", {"viscous", "adaptive-dynamic-relaxation"});
+    if (s.damping_type == "viscous") {
+      if (!dn["coefficient"])
+        throw c.err(dn, "damping.coefficient", "missing key")
+            .expected("the viscous coefficient c (1/time) of the force −c M v, e.g. 0.1");
+      s.damping_coefficient = c.number(dn["coefficient"], "damping.coefficient");
+      if (!(s.damping_coefficient > 0))
+        throw c.err(dn["coefficient"], "damping.coefficient", "the coefficient must be positive")
+            .value(dn["coefficient"].Scalar())
+            .fix("remove damping for undamped motion");
+    } else if (dn["coefficient"]) {
+      throw c
+          .err(dn["coefficient"], "damping.coefficient",
+               "adaptive dynamic relaxation computes its coefficient each step (Underwood): a "
+               "given coefficient contradicts it")
+          .fix("remove coefficient, or use type: viscous");
+    }
+  }
+  if (const auto iv = root["initial"]) {
+    c.keys(iv, "initial", {"velocity"});
+    if (const auto vel = iv["velocity"]) {
+      std::vector<std::string> valid(axes, axes + d);
+      c.keys(vel, "initial.velocity", valid);
+      for (int a = 0; a < d; ++a) {
+        if (!vel[axes[a]]) continue;
+        const auto n = vel[axes[a]];
+        const std::string key = std::string("initial.velocity.") + axes[a];
+        if (!n.IsScalar()) throw c.err(n, key, "expected a number or an expression in x, y, z");
+        s.initial_velocity_text[a] = n.Scalar();
+        try {
+          s.initial_velocity[a] = parse_expression(n.Scalar(), key, {"x", "y", "z"});
+        } catch (InputError& e) {
+          throw e.source(c.file).line(n.Mark().line + 1);
+        }
+      }
+    }
+  }
   if (has("rupture")) {
     s.rupture = true;
     const auto r = root["rupture"];
@@ -460,9 +650,13 @@ std::string resolved_yaml(const Scene& s) {
     y << YAML::Key << "factor" << YAML::Value << s.horizon_factor;
   y << YAML::EndMap;
   y << YAML::Key << "material" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-    << "model" << YAML::Value << "neo-hookean" << YAML::Key << "shear_modulus" << YAML::Value
-    << s.shear_modulus << YAML::Key << "bulk_modulus" << YAML::Value << s.bulk_modulus << YAML::Key
-    << "density" << YAML::Value << s.density << YAML::EndMap;
+    << "model" << YAML::Value << s.material_model;
+  if (s.material_model == "cauchy-born")
+    y << YAML::Key << "file" << YAML::Value << s.material_file.string();
+  else
+    y << YAML::Key << "shear_modulus" << YAML::Value << s.shear_modulus << YAML::Key
+      << "bulk_modulus" << YAML::Value << s.bulk_modulus;
+  y << YAML::Key << "density" << YAML::Value << s.density << YAML::EndMap;
   y << YAML::Key << "boundary" << YAML::Value << YAML::BeginSeq;
   const char* axes[3] = {"x", "y", "z"};
   for (const auto& bc : s.boundary) {
@@ -492,8 +686,9 @@ std::string resolved_yaml(const Scene& s) {
     y << YAML::EndMap;
   }
   y << YAML::EndSeq;
-  y << YAML::Key << "loading" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "steps"
-    << YAML::Value << s.steps << YAML::EndMap;
+  if (!s.inertia)  // with inertia t is the time; end_time ends the run
+    y << YAML::Key << "loading" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "steps" << YAML::Value << s.steps << YAML::EndMap;
   y << YAML::Key << "solver" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "type"
     << YAML::Value << "newton" << YAML::Key << "tolerance" << YAML::Value << s.newton.tolerance
     << YAML::Key << "max_iterations" << YAML::Value << s.newton.max_iterations << YAML::Key
@@ -512,9 +707,40 @@ std::string resolved_yaml(const Scene& s) {
       << "criterion" << YAML::Value << solver::to_string(s.rupture_options.criterion) << YAML::Key
       << "critical" << YAML::Value << s.rupture_options.critical << YAML::Key << "max_passes"
       << YAML::Value << s.rupture_options.max_passes << YAML::EndMap;
+  if (s.inertia) {
+    y << YAML::Key << "inertia" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "integrator" << YAML::Value << s.integrator << YAML::Key << "time_step" << YAML::Value;
+    if (s.time_step > 0)
+      y << s.time_step;
+    else
+      y << "auto" << YAML::Key << "safety" << YAML::Value << s.safety;
+    y << YAML::Key << "end_time" << YAML::Value << s.end_time;
+    if (s.allow_unstable) y << YAML::Key << "allow_unstable" << YAML::Value << true;
+    y << YAML::EndMap;
+  }
+  if (!s.damping_type.empty()) {
+    y << YAML::Key << "damping" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "type" << YAML::Value << s.damping_type;
+    if (s.damping_type == "viscous")
+      y << YAML::Key << "coefficient" << YAML::Value << s.damping_coefficient;
+    y << YAML::EndMap;
+  }
+  if (s.inertia) {
+    const char* ax[3] = {"x", "y", "z"};
+    y << YAML::Key << "initial" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "velocity" << YAML::Value << YAML::BeginMap;
+    for (int a = 0; a < d; ++a)
+      if (s.initial_velocity[a])
+        y << YAML::Key << ax[a] << YAML::Value << YAML::DoubleQuoted << s.initial_velocity_text[a];
+    y << YAML::EndMap << YAML::EndMap;
+  }
   y << YAML::Key << "output" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
     << "directory" << YAML::Value << s.output_directory.string() << YAML::Key << "every"
-    << YAML::Value << s.output_every << YAML::EndMap;
+    << YAML::Value << s.output_every;
+  if (s.inertia) y << YAML::Key << "series_every" << YAML::Value << s.series_every;
+  if (s.checkpoint_every > 0)
+    y << YAML::Key << "checkpoint_every" << YAML::Value << s.checkpoint_every;
+  y << YAML::EndMap;
   y << YAML::EndMap;
   return std::string(y.c_str()) + "\n";
 }
@@ -560,7 +786,8 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
 namespace {
 
 void write_xdmf(const std::filesystem::path& dir, std::size_t n,
-                const std::vector<std::pair<int, double>>& steps, bool damage) {
+                const std::vector<std::pair<int, double>>& steps, bool damage,
+                bool velocity = false) {
   io::AtomicTextFile f(dir / "results.xdmf");
   auto& o = f.stream();
   o << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
@@ -586,6 +813,7 @@ void write_xdmf(const std::filesystem::path& dir, std::size_t n,
     attr("first_piola_kirchhoff", "/fields/first_piola_kirchhoff", "Tensor", 9);
     attr("cauchy_stress", "/fields/cauchy_stress", "Tensor", 9);
     attr("energy_density", "/fields/energy_density", "Scalar", 1);
+    if (velocity) attr("velocity", "/fields/velocity", "Vector", 3);
     if (damage) attr("damage", "/fields/damage", "Scalar", 1);
     o << "   </Grid>\n";
   }
@@ -593,10 +821,362 @@ void write_xdmf(const std::filesystem::path& dir, std::size_t n,
   f.commit();
 }
 
+/// results_NNNN.h5: points and fields at displacement u (and velocity v when given).
+void write_fields(const std::filesystem::path& dir, const Scene& s,
+                  const solver::Discretization& body, const solver::Model& model,
+                  const solver::Material& material, const Eigen::VectorXd& u,
+                  const Eigen::VectorXd* v, bool damage, int step,
+                  const std::function<void(io::H5Writer&)>& attributes) {
+  const int d = s.dimension;
+  const std::size_t N = body.size();
+  const auto F = model.point_deformation_gradients(u);
+  std::vector<double> X(3 * N), U(3 * N, 0.0), Y(3 * N), Fv(9 * N), Pv(9 * N), Sv(9 * N), W(N);
+  std::vector<double> V(v ? 3 * N : 0, 0.0);
+  for (std::size_t i = 0; i < N; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      X[3 * i + a] = body.positions()[i](a);
+      if (a < d) U[3 * i + a] = u[d * i + a];
+      if (v && a < d) V[3 * i + a] = (*v)[d * i + a];
+      Y[3 * i + a] = X[3 * i + a] + U[3 * i + a];
+    }
+    double psi = 0;
+    solver::Mat3 P = solver::Mat3::Zero();
+    material.evaluate(F[i], &psi, &P, nullptr);
+    const solver::Mat3 Ff = material.full_deformation_gradient(F[i]);
+    const solver::Mat3 sigma = P * Ff.transpose() / Ff.determinant();
+    for (int a = 0; a < 3; ++a)
+      for (int J = 0; J < 3; ++J) {
+        Fv[9 * i + 3 * a + J] = Ff(a, J);
+        Pv[9 * i + 3 * a + J] = P(a, J);
+        Sv[9 * i + 3 * a + J] = sigma(a, J);
+      }
+    W[i] = psi;
+  }
+  io::H5Writer h5(dir / fmt::format("results_{:04d}.h5", step),
+                  {"pdcg-results", 1, s.units, {}, {}});
+  h5.write("points/reference", X, {N, 3});
+  h5.write("points/volume", body.volumes(), {N});
+  h5.write("fields/displacement", U, {N, 3});
+  h5.write("fields/deformed_position", Y, {N, 3});
+  h5.write("fields/deformation_gradient", Fv, {N, 9});
+  h5.write("fields/first_piola_kirchhoff", Pv, {N, 9});
+  h5.write("fields/cauchy_stress", Sv, {N, 9});
+  h5.write("fields/energy_density", W, {N});
+  if (v) h5.write("fields/velocity", V, {N, 3});
+  if (damage) h5.write("fields/damage", body.damage(), {N});
+  attributes(h5);
+  h5.commit();
+}
+
+// ------------------------------------------------------------------ checkpoints
+//
+// checkpoint_NNNNNNNN.h5 (format pdcg-checkpoint) in the output directory, written
+// atomically (H5Writer: temporary + rename) after the outputs of step N; the previous one
+// is deleted only after the new one is in place, so a kill at any moment leaves at least
+// one complete checkpoint. It holds the complete solver state, the series text written so
+// far and the list of field files, and the resolved scene (a restart refuses another scene).
+
+std::string scene_identity(const Scene& s) {
+  Scene c = s;
+  c.output_directory = "";  // the restart directory replaces it
+  return resolved_yaml(c);
+}
+
+std::filesystem::path checkpoint_path(const std::filesystem::path& dir, long step) {
+  return dir / fmt::format("checkpoint_{:08d}.h5", step);
+}
+
+/// Highest-numbered complete checkpoint in dir (temporaries never match the name).
+std::optional<std::filesystem::path> last_checkpoint(const std::filesystem::path& dir) {
+  std::optional<std::filesystem::path> best;
+  long best_n = -1;
+  if (!std::filesystem::is_directory(dir)) return best;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() != 22 || name.rfind("checkpoint_", 0) != 0 || name.substr(19) != ".h5")
+      continue;
+    const std::string digits = name.substr(11, 8);
+    if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long n = std::stol(digits);
+    if (n > best_n) best_n = n, best = e.path();
+  }
+  return best;
+}
+
+struct Restart {
+  std::filesystem::path file;
+  std::string kind;  // static | dynamic
+  long step = 0;     // completed (load or time) steps
+  double t = 0.0;
+  std::string series;
+  std::vector<std::pair<int, double>> written;
+  std::unique_ptr<io::H5Reader> h5;
+  std::vector<double> vec(const char* name) const { return h5->read_double(name); }
+};
+
+Restart load_checkpoint(const Scene& s, const std::filesystem::path& dir) {
+  const auto file = last_checkpoint(dir);
+  if (!file)
+    throw InputError("no checkpoint to restart from")
+        .source(dir.string())
+        .key("--restart")
+        .expected(
+            "a directory holding checkpoint_NNNNNNNN.h5 (written with "
+            "output: {checkpoint_every: N})")
+        .fix("check the directory, or run without --restart");
+  Restart r;
+  r.file = *file;
+  r.h5 = std::make_unique<io::H5Reader>(*file);
+  r.h5->require_format("pdcg-checkpoint", 1);
+  r.kind = r.h5->attribute_string("/", "kind");
+  r.step = static_cast<long>(r.h5->attribute_int("/", "step"));
+  r.t = r.h5->attribute_double("/", "t");
+  if (r.h5->read_string("scene") != scene_identity(s))
+    throw InputError("the checkpoint was written by another scene")
+        .source(file->string())
+        .key("--restart")
+        .expected(fmt::format("the scene of {} (see scene.resolved.yaml there)", dir.string()))
+        .fix("restart with the scene file of the interrupted run");
+  r.series = r.h5->read_string("series");
+  const auto ws = r.h5->read_int("written/steps");
+  const auto wt = r.h5->read_double("written/times");
+  for (std::size_t i = 0; i < ws.size(); ++i)
+    r.written.emplace_back(static_cast<int>(ws[i]), wt[i]);
+  log::info("restart from {}: step {}, t = {:.6g}", file->string(), r.step, r.t);
+  return r;
+}
+
+/// Starts a checkpoint file with the common part; the caller adds the state and commits.
+std::unique_ptr<io::H5Writer> begin_checkpoint(const Scene& s, const std::filesystem::path& dir,
+                                               const char* kind, long step, double t,
+                                               const std::string& series,
+                                               const std::vector<std::pair<int, double>>& written) {
+  auto h5 = std::make_unique<io::H5Writer>(checkpoint_path(dir, step),
+                                           io::FileInfo{"pdcg-checkpoint", 1, s.units, {}, {}});
+  h5->attribute("/", "kind", kind);
+  h5->attribute("/", "step", static_cast<std::int64_t>(step));
+  h5->attribute("/", "t", t);
+  h5->write("scene", scene_identity(s));
+  h5->write("series", series);
+  std::vector<std::int64_t> ws;
+  std::vector<double> wt;
+  for (const auto& [n, tw] : written) ws.push_back(n), wt.push_back(tw);
+  h5->write("written/steps", ws);
+  h5->write("written/times", wt);
+  return h5;
+}
+
+void finish_checkpoint(io::H5Writer& h5, const std::filesystem::path& dir, long step) {
+  h5.commit();
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("checkpoint_", 0) == 0 && name.size() == 22 && name.substr(19) == ".h5" &&
+        e.path() != checkpoint_path(dir, step))
+      std::filesystem::remove(e.path());
+  }
+}
+
+/// Test hook (docs/effects.md): PDCG_TEST_FAIL_AFTER_STEP=N ends the process abruptly
+/// (std::_Exit, no clean-up, as a kill would) after the outputs of step N are written.
+void maybe_fail_after(long step) {
+  static const long n = [] {
+    const char* e = std::getenv("PDCG_TEST_FAIL_AFTER_STEP");
+    return e ? std::atol(e) : -1L;
+  }();
+  if (n >= 0 && step == n) {
+    std::fprintf(stderr, "pdcg: PDCG_TEST_FAIL_AFTER_STEP=%ld: simulated crash\n", n);
+    std::_Exit(75);
+  }
+}
+
+Eigen::VectorXd vec_of(const std::vector<double>& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+std::vector<double> std_of(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+// ------------------------------------------------------------------ dynamics
+
+void run_dynamic(const Scene& s, const std::filesystem::path& dir,
+                 const std::optional<Restart>& restart, const solver::Discretization& body,
+                 const solver::Model& model, const solver::Material& material,
+                 std::vector<solver::DisplacementSet> dsets) {
+  const int d = s.dimension;
+  const std::size_t N = body.size();
+  if (restart && restart->kind != "dynamic")
+    throw InputError("the checkpoint is of a quasi-static run").source(restart->file.string());
+  solver::ExplicitOptions eo;
+  eo.density = s.density;
+  eo.time_step = s.time_step;
+  eo.safety = s.safety;
+  eo.allow_unstable = s.allow_unstable;
+  if (s.damping_type == "viscous") {
+    eo.damping_type = solver::ExplicitDamping::viscous;
+    eo.damping = s.damping_coefficient;
+  } else if (s.damping_type == "adaptive-dynamic-relaxation") {
+    eo.damping_type = solver::ExplicitDamping::adaptive;
+  }
+  std::unique_ptr<solver::ExplicitSolver> ex;
+  try {
+    ex = std::make_unique<solver::ExplicitSolver>(model, dsets, eo);
+  } catch (InputError& e) {
+    throw e.source(s.source.string());
+  }
+  // Steps: auto → Δt = end_time / ⌈end_time / (safety Δt_crit)⌉ (ends exactly at end_time,
+  // still ≤ safety Δt_crit); a given Δt is kept and the last step may pass end_time.
+  const double dt0 = ex->time_step();
+  const long steps = static_cast<long>(std::ceil(s.end_time / dt0 * (1 - 1e-12)));
+  if (!(s.time_step > 0)) ex->shorten_time_step(s.end_time / static_cast<double>(steps));
+  const double dt = ex->time_step();
+  log::info("explicit dynamics: {} steps of {:.6g} to t = {:.6g} (stable limit {:.6g}, {:.3g}×)",
+            steps, dt, s.end_time, ex->stable_limit(), dt / ex->stable_limit());
+  // initial velocity (free components only; prescribed ones follow ū(t))
+  bool any_v = false;
+  for (int a = 0; a < d; ++a) any_v = any_v || static_cast<bool>(s.initial_velocity[a]);
+  if (any_v && !restart) {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(model.dofs());
+    for (std::size_t k = 0; k < N; ++k) {
+      const double x[3] = {body.positions()[k](0), body.positions()[k](1), body.positions()[k](2)};
+      for (int a = 0; a < d; ++a)
+        if (s.initial_velocity[a]) v[d * k + a] = s.initial_velocity[a](x);
+    }
+    for (const auto& ds : dsets)
+      for (int p : ds.points)
+        for (int a = 0; a < d; ++a)
+          if (ds.component[a]) v[d * p + a] = 0.0;
+    ex->set_velocity(v);
+  }
+  const char* axes[3] = {"x", "y", "z"};
+  std::ostringstream csv;
+  std::vector<std::pair<int, double>> written;
+  long first = 1;
+  if (restart) {
+    solver::ExplicitSolver::State st;
+    st.u = vec_of(restart->vec("state/u"));
+    st.v = vec_of(restart->vec("state/v"));
+    st.a = vec_of(restart->vec("state/a"));
+    st.f = vec_of(restart->vec("state/f"));
+    if (restart->h5->exists("state/f_prev")) st.f_prev = vec_of(restart->vec("state/f_prev"));
+    st.t = restart->t;
+    st.c = restart->h5->attribute_double("/", "damping_coefficient");
+    if (st.u.size() != static_cast<Eigen::Index>(model.dofs()))
+      throw InputError("the checkpoint does not fit the scene's body")
+          .source(restart->file.string());
+    ex->restore(st);
+    csv << restart->series;
+    written = restart->written;
+    first = restart->step + 1;
+  } else {
+    csv << "step,t,kinetic,internal,total,total_verlet";
+    for (const auto& ds : dsets)
+      for (int a = 0; a < d; ++a) csv << "," << ds.name << "_f" << axes[a];
+    if (!s.damping_type.empty()) csv << ",damping_coefficient";
+    csv << "\n";
+  }
+  auto sample = [&](long n) {
+    const double ek = ex->kinetic_energy(), ei = model.energy(ex->displacement());
+    // total_verlet: ½ v_{n−½}·M v_{n+½} + Π, the energy velocity Verlet conserves exactly for
+    // a linear system (E_kin + Π oscillates by O((ωΔt)²) around it; docs/effects.md)
+    csv << n << ","
+        << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", ex->time(), ek, ei, ek + ei,
+                       ex->modified_kinetic_energy() + ei);
+    for (std::size_t i = 0; i < dsets.size(); ++i) {
+      const Vec3 r = ex->reaction(i);
+      for (int a = 0; a < d; ++a) csv << "," << fmt::format("{:.17g}", r(a));
+    }
+    if (!s.damping_type.empty()) csv << "," << fmt::format("{:.17g}", ex->damping_coefficient());
+    csv << "\n";
+    return ek + ei;
+  };
+  auto write_series = [&] {
+    io::AtomicTextFile f(dir / "series.csv");
+    f.stream() << csv.str();
+    f.commit();
+  };
+  auto write_step = [&](long n) {
+    write_fields(dir, s, body, model, material, ex->displacement(), &ex->velocity(), false,
+                 static_cast<int>(n), [&](io::H5Writer& h5) {
+                   h5.attribute("/", "step", static_cast<std::int64_t>(n));
+                   h5.attribute("/", "time", ex->time());
+                 });
+    written.emplace_back(static_cast<int>(n), ex->time());
+    write_xdmf(dir, N, written, false, true);
+    write_series();
+  };
+  double E0 = 0.0;
+  if (!restart) {
+    E0 = sample(0);
+    write_step(0);
+  } else {
+    E0 = ex->kinetic_energy() + model.energy(ex->displacement());
+  }
+  Progress progress("steps", static_cast<std::uint64_t>(steps));
+  const long progress_every = std::max(1L, steps / 2000);
+  double E = E0;
+  for (long n = first; n <= steps; ++n) {
+    try {
+      ex->step();
+    } catch (const NumericalError& e) {
+      write_series();  // the series up to the failure, for the diagnosis
+      throw NumericalError(
+          fmt::format("{} (step {}; Δt = {:.6g} is {:.3g}× the stable limit {:.6g})", e.what(), n,
+                      dt, dt / ex->stable_limit(), ex->stable_limit()));
+    }
+    const bool last = n == steps;
+    if (n % s.series_every == 0 || last) E = sample(n);
+    if (!std::isfinite(E) || !ex->displacement().allFinite())
+      throw NumericalError(fmt::format(
+          "explicit dynamics diverged at step {} (t = {:.6g}): energy {} — the time step {:.6g} "
+          "is {:.3g}× the stable limit {:.6g}",
+          n, ex->time(), E, dt, dt / ex->stable_limit(), ex->stable_limit()));
+    if (n % s.output_every == 0 || last) write_step(n);
+    if (s.checkpoint_every > 0 && (n % s.checkpoint_every == 0 || last)) {
+      if (n % s.output_every != 0 && !last) write_series();
+      auto h5 = begin_checkpoint(s, dir, "dynamic", n, ex->time(), csv.str(), written);
+      const auto st = ex->state();
+      h5->write("state/u", std_of(st.u));
+      h5->write("state/v", std_of(st.v));
+      h5->write("state/a", std_of(st.a));
+      h5->write("state/f", std_of(st.f));
+      if (st.f_prev.size() > 0) h5->write("state/f_prev", std_of(st.f_prev));
+      h5->attribute("/", "damping_coefficient", st.c);
+      finish_checkpoint(*h5, dir, n);
+    }
+    if (n % progress_every == 0)  // formatting the line allocates: not every step
+      progress.update(static_cast<std::uint64_t>(n),
+                      fmt::format("t = {:.4g}, E = {:.6g} ({:+.2e})", ex->time(), E,
+                                  E0 != 0 ? (E - E0) / std::abs(E0) : 0.0));
+    maybe_fail_after(n);
+  }
+  progress.finish(fmt::format("t = {:.4g}", ex->time()));
+  write_series();
+  log::info(
+      "done: {} steps to t = {:.6g}; total energy {:.10g} (start {:.10g}, change {:.3e}); "
+      "results in {}",
+      steps, ex->time(), E, E0, E0 != 0 ? (E - E0) / std::abs(E0) : 0.0, dir.string());
+}
+
 }  // namespace
 
+std::unique_ptr<solver::Material> make_material(const Scene& s) {
+  if (s.material_model == "cauchy-born")
+    return body::CauchyBornMaterial::from_file(s.material_file);
+  const auto kin = s.dimension == 3      ? solver::Kinematics::three_d
+                   : s.plane == "stress" ? solver::Kinematics::plane_stress
+                                         : solver::Kinematics::plane_strain;
+  return solver::make_neo_hookean({s.shear_modulus, s.bulk_modulus}, kin);
+}
+
 void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_override) {
-  const std::filesystem::path dir = out_override ? *out_override : s.output_directory;
+  RunOptions o;
+  o.output = out_override;
+  run_scene(s, o);
+}
+
+void run_scene(const Scene& s, const RunOptions& ro) {
+  const std::filesystem::path dir =
+      ro.restart ? *ro.restart : (ro.output ? *ro.output : s.output_directory);
+  std::optional<Restart> restart;
+  if (ro.restart) restart = load_checkpoint(s, dir);
   std::filesystem::create_directories(dir);
   {
     io::AtomicTextFile f(dir / "scene.resolved.yaml");
@@ -608,10 +1188,8 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
   dopt.horizon = s.horizon_value;
   auto body = solver::Discretization::grid(s.geometry, dopt);
   log::info("body: {} points, spacing {}, horizon {}", body.size(), body.spacing(), body.horizon());
-  const auto kin = s.dimension == 3      ? solver::Kinematics::three_d
-                   : s.plane == "stress" ? solver::Kinematics::plane_stress
-                                         : solver::Kinematics::plane_strain;
-  const auto material = solver::make_neo_hookean({s.shear_modulus, s.bulk_modulus}, kin);
+  const auto material = make_material(s);
+  log::info("material: {}", material->name());
   solver::Model model(body, *material, s.model);
   std::vector<solver::DisplacementSet> dsets;
   std::vector<solver::TractionSet> tsets;
@@ -629,6 +1207,10 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
       ds.component = bc.value;
       dsets.push_back(std::move(ds));
     }
+  }
+  if (s.inertia) {
+    run_dynamic(s, dir, restart, body, model, *material, std::move(dsets));
+    return;
   }
   solver::NewtonOptions nopt = s.newton;
   nopt.steps = s.steps;
@@ -650,22 +1232,40 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
   const std::size_t N = body.size();
   std::vector<std::pair<int, double>> written;
   std::ostringstream csv;
-  csv << "step,t";
   const char* axes[3] = {"x", "y", "z"};
-  for (const auto& ds : dsets)
-    for (int a = 0; a < d; ++a) csv << "," << ds.name << "_f" << axes[a];
-  if (rupture) csv << ",broken_bonds";
-  csv << "\n";
+  int first = 1;
+  if (restart) {
+    if (restart->kind != "static")
+      throw InputError("the checkpoint is of a dynamic run").source(restart->file.string());
+    solver.prepare_restart();  // pattern analysis on the model of a fresh start
+    if (rupture) {
+      const auto pairs = restart->h5->read_int("rupture/broken");
+      const auto ap = restart->h5->read_int("rupture/anchor_points");
+      rupture->restore(pairs, std::vector<int>(ap.begin(), ap.end()),
+                       restart->vec("rupture/anchor_targets"));
+    }
+    solver.restore(vec_of(restart->vec("state/u")), vec_of(restart->vec("state/f")), restart->t,
+                   static_cast<int>(restart->h5->attribute_int("/", "solver_step")));
+    csv << restart->series;
+    written = restart->written;
+    first = static_cast<int>(restart->step) + 1;
+  } else {
+    csv << "step,t";
+    for (const auto& ds : dsets)
+      for (int a = 0; a < d; ++a) csv << "," << ds.name << "_f" << axes[a];
+    if (rupture) csv << ",broken_bonds";
+    csv << "\n";
+    csv << "0,0";
+    for (std::size_t i = 0; i < dsets.size(); ++i)
+      for (int a = 0; a < d; ++a) csv << ",0";
+    if (rupture) csv << ",0";
+    csv << "\n";
+  }
   auto write_csv = [&] {
     io::AtomicTextFile f(dir / "reactions.csv");
     f.stream() << csv.str();
     f.commit();
   };
-  csv << "0,0";
-  for (std::size_t i = 0; i < dsets.size(); ++i)
-    for (int a = 0; a < d; ++a) csv << ",0";
-  if (rupture) csv << ",0";
-  csv << "\n";
   write_csv();
   int counter = 0;
   auto on_step = [&](const solver::StepReport& rep) {
@@ -681,48 +1281,43 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
     ++counter;
     const bool last = rep.t >= 1.0 - 1e-12;
     if (counter % s.output_every != 0 && !last) return;
-    const Eigen::VectorXd& u = solver.displacement();
-    const auto F = model.point_deformation_gradients(u);
-    std::vector<double> X(3 * N), U(3 * N, 0.0), Y(3 * N), Fv(9 * N), Pv(9 * N), Sv(9 * N), W(N);
-    for (std::size_t i = 0; i < N; ++i) {
-      for (int a = 0; a < 3; ++a) {
-        X[3 * i + a] = body.positions()[i](a);
-        if (a < d) U[3 * i + a] = u[d * i + a];
-        Y[3 * i + a] = X[3 * i + a] + U[3 * i + a];
-      }
-      double psi = 0;
-      solver::Mat3 P = solver::Mat3::Zero();
-      material->evaluate(F[i], &psi, &P, nullptr);
-      const solver::Mat3 Ff = material->full_deformation_gradient(F[i]);
-      const solver::Mat3 sigma = P * Ff.transpose() / Ff.determinant();
-      for (int a = 0; a < 3; ++a)
-        for (int J = 0; J < 3; ++J) {
-          Fv[9 * i + 3 * a + J] = Ff(a, J);
-          Pv[9 * i + 3 * a + J] = P(a, J);
-          Sv[9 * i + 3 * a + J] = sigma(a, J);
-        }
-      W[i] = psi;
-    }
-    io::H5Writer h5(dir / fmt::format("results_{:04d}.h5", rep.step),
-                    {"pdcg-results", 1, s.units, {}, {}});
-    h5.write("points/reference", X, {N, 3});
-    h5.write("points/volume", body.volumes(), {N});
-    h5.write("fields/displacement", U, {N, 3});
-    h5.write("fields/deformed_position", Y, {N, 3});
-    h5.write("fields/deformation_gradient", Fv, {N, 9});
-    h5.write("fields/first_piola_kirchhoff", Pv, {N, 9});
-    h5.write("fields/cauchy_stress", Sv, {N, 9});
-    h5.write("fields/energy_density", W, {N});
-    if (rupture) h5.write("fields/damage", body.damage(), {N});
-    h5.attribute("/", "step", static_cast<std::int64_t>(rep.step));
-    h5.attribute("/", "load_factor", rep.t);
-    h5.attribute("/", "newton_iterations", static_cast<std::int64_t>(rep.iterations));
-    h5.attribute("/", "residual", rep.residual);
-    h5.commit();
+    write_fields(dir, s, body, model, *material, solver.displacement(), nullptr, s.rupture,
+                 rep.step, [&](io::H5Writer& h5) {
+                   h5.attribute("/", "step", static_cast<std::int64_t>(rep.step));
+                   h5.attribute("/", "load_factor", rep.t);
+                   h5.attribute("/", "newton_iterations",
+                                static_cast<std::int64_t>(rep.iterations));
+                   h5.attribute("/", "residual", rep.residual);
+                 });
     written.emplace_back(rep.step, rep.t);
     write_xdmf(dir, N, written, s.rupture);
   };
-  solver.run(on_step);
+  // Nominal load steps t = k/steps; a checkpoint after every checkpoint_every of them.
+  auto progress_text = [&] {
+    return rupture ? fmt::format("t = {:.4g}, {} bonds broken", solver.load_factor(),
+                                 body.broken_bonds())
+                   : fmt::format("t = {:.4g}", solver.load_factor());
+  };
+  Progress progress("load steps", static_cast<std::uint64_t>(s.steps));
+  for (int k = first; k <= s.steps; ++k) {
+    solver.advance_to(static_cast<double>(k) / s.steps, on_step);
+    if (s.checkpoint_every > 0 && (k % s.checkpoint_every == 0 || k == s.steps)) {
+      auto h5 = begin_checkpoint(s, dir, "static", k, solver.load_factor(), csv.str(), written);
+      h5->write("state/u", std_of(solver.displacement()));
+      h5->write("state/f", std_of(solver.internal_force()));
+      h5->attribute("/", "solver_step", static_cast<std::int64_t>(solver.step()));
+      if (rupture) {
+        h5->write("rupture/broken", rupture->broken_pairs());
+        const auto& ap = model.anchors();
+        h5->write("rupture/anchor_points", std::vector<std::int64_t>(ap.begin(), ap.end()));
+        h5->write("rupture/anchor_targets", model.anchor_targets());
+      }
+      finish_checkpoint(*h5, dir, k);
+    }
+    progress.update(static_cast<std::uint64_t>(k), progress_text());
+    maybe_fail_after(k);
+  }
+  progress.finish(progress_text());
   log::info("done: {} steps, results in {}", counter, dir.string());
 }
 

@@ -26,13 +26,21 @@ ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> 
   u_ = Eigen::VectorXd::Zero(n);
   v_ = Eigen::VectorXd::Zero(n);
   const double crit = critical_time_step(u_);
+  crit_ = crit;
   if (opt_.time_step > 0) {
-    if (opt_.time_step > crit)
+    if (opt_.time_step > crit && !opt_.allow_unstable)
       throw InputError("time step above the stable limit of the explicit integrator")
           .key("inertia.time_step")
           .value(fmt::format("{}", opt_.time_step))
           .expected(fmt::format("at most {:.6g} (Gershgorin bound 2/√(max_k Σ|K_kn|/M_k))", crit))
-          .fix("use time_step: auto (with safety < 1)");
+          .fix(
+              "use time_step: auto (with safety < 1), or inertia.allow_unstable: true to run it "
+              "anyway (it will blow up)");
+    if (opt_.time_step > crit)
+      log::warn(
+          "time step {:.6g} is {:.4g}× the stable limit {:.6g}: running anyway "
+          "(allow_unstable); expect the energy to grow without bound",
+          opt_.time_step, opt_.time_step / crit, crit);
     dt_ = opt_.time_step;
   } else {
     if (!(opt_.safety > 0 && opt_.safety <= 1))
@@ -42,9 +50,46 @@ ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> 
           .expected("0 < safety ≤ 1, e.g. 0.8");
     dt_ = opt_.safety * crit;
   }
+  if (opt_.damping_type == ExplicitDamping::none && opt_.damping > 0)
+    opt_.damping_type = ExplicitDamping::viscous;
+  if (opt_.damping_type == ExplicitDamping::viscous) c_ = opt_.damping;
   log::info("explicit dynamics: Δt = {:.4g} (stable limit {:.4g} from the Gershgorin bound)", dt_,
             crit);
   compute_acceleration(0.0);
+  if (opt_.damping_type == ExplicitDamping::adaptive) f_prev_ = f_;
+}
+
+void ExplicitSolver::restore(const State& s) {
+  u_ = s.u;
+  v_ = s.v;
+  a_ = s.a;
+  f_ = s.f;
+  f_prev_ = s.f_prev;
+  t_ = s.t;
+  c_ = s.c;
+}
+
+Vec3 ExplicitSolver::reaction(std::size_t set) const {
+  const int d = model_->dimension();
+  Vec3 r = Vec3::Zero();
+  for (int p : dsets_.at(set).points)
+    for (int a = 0; a < d; ++a) r(a) += f_[d * p + a];
+  return r;
+}
+
+void ExplicitSolver::update_adaptive_damping() {
+  // Underwood (1983): ¹K_ii = −(r_i^n − r_i^{n−1})/(Δt v_i^{n−½}) with r = −f (free dofs with
+  // v ≠ 0), c = 2√(uᵀ¹K u / uᵀMu) when positive, else 0 (the split exponential damping is
+  // stable for every c).
+  double num = 0.0, den = 0.0;
+  for (Eigen::Index i = 0; i < u_.size(); ++i) {
+    if (prescribed_[i] >= 0) continue;
+    den += u_[i] * m_[i] * u_[i];
+    if (v_[i] == 0.0) continue;
+    const double k = (f_[i] - f_prev_[i]) / (dt_ * v_[i]);
+    num += u_[i] * k * u_[i];
+  }
+  c_ = (num > 0 && den > 0) ? 2.0 * std::sqrt(num / den) : 0.0;
 }
 
 double ExplicitSolver::critical_time_step(const Eigen::VectorXd& u) const {
@@ -68,20 +113,30 @@ void ExplicitSolver::set_displacement(const Eigen::VectorXd& u) {
   compute_acceleration(t_);
 }
 
-void ExplicitSolver::compute_acceleration(double t) {
+void ExplicitSolver::compute_force(double t) {
   if (!model_->internal_force(u_, f_))
     throw NumericalError(
         fmt::format("inadmissible deformation (J ≤ 0) at time {:.6g}: the time step may be too "
                     "large or the motion too violent",
                     t));
+}
+
+void ExplicitSolver::compute_acceleration(double t) {
+  compute_force(t);
+  acceleration_from_force();
+}
+
+void ExplicitSolver::acceleration_from_force() {
   a_ = -f_.cwiseQuotient(m_);
-  if (opt_.damping > 0) a_ -= opt_.damping * v_;
   for (std::size_t i = 0; i < prescribed_.size(); ++i)
     if (prescribed_[i] >= 0) a_[i] = 0.0;
 }
 
 void ExplicitSolver::step() {
   const double h = dt_, t1 = t_ + h;
+  // Damping by Strang splitting: v ← e^{−c h/2} v before and after the Verlet step (exact
+  // for the damping part, stable for every c ≥ 0; the prescribed components are reset below).
+  if (c_ > 0) v_ *= std::exp(-0.5 * c_ * h);
   v_ += 0.5 * h * a_;
   u_ += h * v_;
   for (std::size_t i = 0; i < prescribed_.size(); ++i) {
@@ -92,8 +147,12 @@ void ExplicitSolver::step() {
     v_[i] = (fn(t1 + 0.5 * h) - fn(t1 - 0.5 * h)) / h;
   }
   t_ = t1;
-  compute_acceleration(t_);
+  if (opt_.damping_type == ExplicitDamping::adaptive) f_prev_.swap(f_);
+  compute_force(t_);
+  if (opt_.damping_type == ExplicitDamping::adaptive) update_adaptive_damping();
+  acceleration_from_force();
   v_ += 0.5 * h * a_;
+  if (c_ > 0) v_ *= std::exp(-0.5 * c_ * h);
   for (std::size_t i = 0; i < prescribed_.size(); ++i) {
     const int p = prescribed_[i];
     if (p < 0) continue;

@@ -4,6 +4,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
 #include <chrono>
@@ -226,6 +227,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       rep.residual = rnorm;
       u_ = u;
       f_ = f;
+      if (opt_.check_stability) rep.negative_eigenvalues = tangent_inertia();  // K_ is at u
       return true;
     }
     // Linear solve.
@@ -355,12 +357,32 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
       u_ = u_save;
       f_ = f_save;
       ++cutbacks;
-      if (cutbacks > opt_.max_cutbacks)
+      if (cutbacks > opt_.max_cutbacks) {
+        // Diagnosis: inertia of the tangent at the last converged state.
+        std::string why = "the tangent at the last converged state could not be evaluated";
+        Eigen::VectorXd ftmp;
+        if (model_->internal_force_and_tangent(u_, ftmp, K_)) {
+          const int neg = tangent_inertia();
+          why = neg == 0 ? fmt::format(
+                               "the tangent at the last converged load factor {:.6g} is "
+                               "positive definite (no loss of stability detected)",
+                               t_)
+                : neg > 0 ? fmt::format(
+                                "LOSS OF STABILITY: the tangent at the last converged load "
+                                "factor {:.6g} has {} negative eigenvalue(s) (buckling or "
+                                "a limit point)",
+                                t_, neg)
+                          : fmt::format(
+                                "LOSS OF STABILITY: the tangent at the last converged load "
+                                "factor {:.6g} is singular (a bifurcation or limit point)",
+                                t_);
+        }
         throw NumericalError(fmt::format(
             "Newton failed at load factor {:.6g} after {} step cutbacks (last residual history: "
-            "{}); the load may exceed a limit point, or the deformation inverts an element "
+            "{}); {}. The load may exceed a limit point, or the deformation inverts an element "
             "(J ≤ 0). Try more load steps, a larger horizon, or check the boundary conditions",
-            t_new, opt_.max_cutbacks, fmt::join(rep.residual_history, " ")));
+            t_new, opt_.max_cutbacks, fmt::join(rep.residual_history, " "), why));
+      }
       dt *= 0.5;
       log::warn(
           "step to t = {:.6g} did not converge ({} iterations, residual {:.3e}): cutting back to "
@@ -368,6 +390,22 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
           t_new, rep.residual_history.size(),
           rep.residual_history.empty() ? NAN : rep.residual_history.back(), dt);
       continue;
+    }
+    if (opt_.check_stability && rep.negative_eigenvalues != 0) {
+      const double t_stable = t_;
+      u_ = u_save;
+      f_ = f_save;
+      throw NumericalError(fmt::format(
+          "loss of stability at load factor {:.6g}: the converged tangent stiffness{} {} "
+          "(LDLᵀ inertia), so this equilibrium is unstable (buckling or a limit point between "
+          "load factors {:.6g} and {:.6g}); the state at {:.6g} is kept. To follow a buckled "
+          "path, add an imperfection (a small transverse load or a perturbed geometry) and "
+          "use smaller load steps",
+          t_new, model_->symmetric() ? "" : " (symmetric part)",
+          rep.negative_eigenvalues > 0
+              ? fmt::format("has {} negative eigenvalue(s)", rep.negative_eigenvalues)
+              : std::string("is singular (zero pivot)"),
+          t_stable, t_new, t_stable));
     }
     t_ = t_new;
     rep.t = t_;
@@ -381,6 +419,24 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
     if (on_step) on_step(rep);
     if (dt < nominal) dt = std::min(nominal, 2 * dt);  // recover after a successful step
   }
+}
+
+int StaticSolver::tangent_inertia() {
+  SparseCol& Kff = solvers_->Kff;
+  for (std::size_t q = 0; q < red_map_.size(); ++q) Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+  const SparseCol& A = Kff;
+  const SparseCol At = A.transpose();
+  const SparseCol S = 0.5 * (A + At);
+  // Sylvester: P S Pᵀ = L D Lᵀ has as many negative entries of D as S has negative
+  // eigenvalues (no pivoting needed unless a pivot is exactly zero: reported as −2).
+  Eigen::SimplicialLDLT<SparseCol, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(S);
+  if (ldlt.info() != Eigen::Success) return -2;
+  int neg = 0;
+  for (double dk : ldlt.vectorD()) {
+    if (!(dk != 0.0) || !std::isfinite(dk)) return -2;
+    if (dk < 0) ++neg;
+  }
+  return neg;
 }
 
 bool StaticSolver::reequilibrate(StepReport& rep) {
@@ -469,6 +525,33 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   u_ = u;
   f_ = f;
   return true;
+}
+
+void StaticSolver::restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step) {
+  if (u.size() != u_.size() || f.size() != u_.size())
+    throw Error("internal error: restored state of another size");
+  u_ = u;
+  f_ = f;
+  t_ = t;
+  step_ = step;
+}
+
+void StaticSolver::prepare_restart() {
+  auto& S = *solvers_;
+  if (S.analysed || opt_.linear == LinearSolver::bicgstab) return;
+  Eigen::VectorXd f;
+  if (!model_->internal_force_and_tangent(Eigen::VectorXd::Zero(model_->dofs()), f, K_))
+    throw NumericalError("inadmissible reference state while preparing a restart");
+  for (std::size_t q = 0; q < red_map_.size(); ++q)
+    S.Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+  const SparseCol& A = S.Kff;
+  if (opt_.linear == LinearSolver::cholmod)
+    S.cholmod.analyzePattern(A);
+  else if (opt_.linear == LinearSolver::umfpack)
+    S.umfpack.analyzePattern(A);
+  else
+    S.lu.analyzePattern(A);
+  S.analysed = true;
 }
 
 void StaticSolver::run(const std::function<void(const StepReport&)>& on_step) {

@@ -110,8 +110,69 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
         pass.broken += body_->break_bond(static_cast<int>(i), j) ? 1 : 0;
     }
   if (pass.broken > 0) pass.rebuilt = commit(u);
+  // A rebuilt (thinned, one-sided) BA stencil can map the current displacement to an
+  // inverted F (J ≤ 0) although its bond is below the criterion; the material cannot be
+  // evaluated there and the re-equilibrium could not even start. Such a bond counts as past
+  // every criterion (as energy_density already treats J ≤ 0) and breaks too; repeat until
+  // every intact stencil is admissible at u (bounded: each round breaks at least one bond).
+  for (int round = 0; pass.broken > 0 && round < 100; ++round) {
+    const std::size_t inv = break_inverted(u);
+    if (inv == 0) break;
+    pass.broken += inv;
+    pass.inverted += inv;
+    pass.rebuilt += commit(u);
+  }
   pass.anchored = model_->anchors().size();
   return pass;
+}
+
+std::vector<std::int64_t> Rupture::broken_pairs() const {
+  const Csr& fam = body_->families();
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i < body_->size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q)
+      if (static_cast<std::size_t>(fam.index[q]) > i && body_->broken(q)) {
+        out.push_back(static_cast<std::int64_t>(i));
+        out.push_back(fam.index[q]);
+      }
+  return out;
+}
+
+void Rupture::restore(const std::vector<std::int64_t>& pairs, std::vector<int> anchor_points,
+                      std::vector<double> anchor_targets) {
+  if (pairs.size() % 2 != 0) throw Error("internal error: odd broken-pair list");
+  for (std::size_t k = 0; k < pairs.size(); k += 2)
+    body_->break_bond(static_cast<int>(pairs[k]), static_cast<int>(pairs[k + 1]));
+  body_->rebuild_broken(opt_.min_reciprocal_condition);
+  model_->set_anchors(std::move(anchor_points), std::move(anchor_targets), anchor_stiffness_);
+}
+
+std::size_t Rupture::break_inverted(const Eigen::VectorXd& u) {
+  const Discretization& B = *body_;
+  const int d = B.dimension();
+  const Csr& fam = B.families();
+  const Stencils& S = B.bond_stencils();
+  const Material& mat = model_->material();
+  std::vector<char> bad(fam.index.size(), 0);
+#pragma omp parallel for schedule(dynamic, 32)
+  for (std::size_t i = 0; i < B.size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+      if (B.broken(q) || !(S.weight[q] > 0)) continue;
+      Mat3 F = Mat3::Identity();
+      for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
+        const int m = S.index[r];
+        const double* g = S.grad.data() + r * d;
+        for (int a = 0; a < d; ++a)
+          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
+      }
+      Mat3 P;
+      if (!mat.evaluate(F, nullptr, &P, nullptr)) bad[q] = 1;
+    }
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < B.size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q)
+      if (bad[q]) n += body_->break_bond(static_cast<int>(i), fam.index[q]) ? 1 : 0;
+  return n;
 }
 
 std::size_t Rupture::commit(const Eigen::VectorXd& u) {
@@ -167,11 +228,12 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     StepReport rep;
     const bool ok = solver.reequilibrate(rep);
     log::info(
-        "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}), "
+        "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
+        "{} of them with an inverted rebuilt stencil), "
         "{} stencils rebuilt, {} ill-posed stencils off, {} detached points; re-equilibrium: {} "
         "({} Newton iterations, residual {:.3e})",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
-        p.max_value, opt_.critical, p.rebuilt, body_->suppressed_stencils(), p.anchored,
+        p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
         ok ? "converged" : "FAILED", rep.iterations,
         rep.residual_history.empty() ? NAN : rep.residual_history.back());
     if (!ok) {

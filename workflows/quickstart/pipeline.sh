@@ -56,5 +56,56 @@ if "$pdcg" --help | grep -q '^  run '; then
   tail -3 plate/reactions.csv | sed 's/^/   /'
 fi
 
+# ---- flagship: a notched triangular Lennard-Jones sheet, from atoms to rupture (docs/flagship.md)
+sheet_dir="$case_dir/../lj_sheet"
+mkdir -p sheet
+echo "== 9. LAMMPS: relax the 2D triangular LJ sheet (dimension 2, lj/cut 2.5σ)"
+(cd "$sheet_dir" && lmp -in in.relax -var out "$out/sheet" -log "$out/sheet/relax.log" -screen none)
+a0=$(cat sheet/a0.txt)
+echo "   zero-stress nearest-neighbour distance a0 = $a0 σ"
+
+echo "== 10. sheet delta body (dimension 2) and its forces vs LAMMPS"
+"$pdcg" -q atoms2pd --input sheet/sheet.data --potential "$sheet_dir/potential.lj" --dimension 2 --boundary "p p f" -o sheet/body.h5
+"$pdcg" -q forces sheet/body.h5 -o sheet/forces.csv
+$py "$here/compare_forces.py" sheet/forces.csv sheet/sheet.dump > sheet/forces_check.json
+$py -c "import json; d=json.load(open('sheet/forces_check.json')); print(f\"   max |f_PD − f_LAMMPS| / max |f_LAMMPS| = {d['max_norm_relative_error']:.2e} over {d['atoms']} atoms\")"
+
+echo "== 11. coarse sheet: homogenise (Wendland C2) and rescale by ε = 2; Cauchy–Born constants"
+"$pdcg" -q atoms2pd --input sheet/sheet_perfect.data --potential "$sheet_dir/potential.lj" --dimension 2 --boundary "p p f" -o sheet/perfect.h5
+"$pdcg" -q homogenize sheet/perfect.h5 --kernel wendland-c2 --width 2.5 --spacing 1.0 -o sheet/hom.h5
+"$pdcg" -q rescale sheet/hom.h5 --factor 2 -o sheet/res.h5
+for k in perfect hom res; do "$pdcg" -q elastic sheet/$k.h5 --json --critical > sheet/elastic_$k.json; done
+$py - <<'PY'
+import json
+e = {k: json.load(open(f"sheet/elastic_{k}.json")) for k in ("perfect", "hom", "res")}
+C = {k: e[k]["C_voigt"] for k in e}
+d = max(abs(C[k][i][j] - C["perfect"][i][j]) for k in ("hom", "res") for i in range(6) for j in range(6)) / C["perfect"][0][0]
+print(f"   C11 {C['perfect'][0][0]:.6g}, C12 {C['perfect'][0][1]:.6g}, C66 {C['perfect'][5][5]:.6g} (ε/σ²); homogenised/rescaled differ by {d:.1e}·C11")
+print(f"   LJ bond inflection: r_infl/r_min = {e['perfect']['bond_inflection_stretch']:.6f}")
+PY
+
+echo "== 12. dispersion along x: atoms vs the coarse (rescaled) sheet"
+echo "   (an 'unstable modes' warning here is the out-of-plane branch ω₁ of the 2D body, ω₁² ≈ −1e-5·ω²_LA:"
+echo "    a flat sheet with a pair potential has no bending stiffness; the in-plane model never uses it)"
+kx=$($py -c "import math; print(4*math.pi/(3*$a0))")  # the K point (zone edge along x)
+"$pdcg" -q dispersion sheet/perfect.h5 --direction 1,0,0 --kmax "$kx" --nk 60 -o sheet/dispersion_atoms.csv
+for eps in 2 4; do
+  "$pdcg" -q rescale sheet/perfect.h5 --factor $eps -o sheet/perfect_eps$eps.h5
+  "$pdcg" -q dispersion sheet/perfect_eps$eps.h5 --direction 1,0,0 --kmax "$kx" --nk 60 -o sheet/dispersion_eps$eps.csv
+done
+"$pdcg" -q dispersion sheet/res.h5 --direction 1,0,0 --kmax "$kx" --nk 60 -o sheet/dispersion_res.csv
+echo "   sheet_dispersion.png: in-plane branches, atoms vs coarse models (drawn by report.py)"
+
+echo "== 13. BA solver: the notched coarse sheet pulled to rupture (Cauchy–Born material of res.h5)"
+$py "$here/sheet_scene.py" sheet > sheet/scene_info.json
+$py "$here/timed.py" sheet/pd_time.json "$out" "$pdcg" -q run sheet/sheet.yaml -o sheet/pd > sheet/pd.log 2>&1 \
+  || { tail -20 sheet/pd.log; exit 1; }
+echo "   PD: $(tail -1 sheet/pd/reactions.csv | awk -F, '{print $NF}') broken bonds at the last step; $($py -c "import json; t=json.load(open('sheet/pd_time.json')); print(f\"{t['wall']:.1f} s wall, {t['cpu']:.1f} s CPU\")")"
+
+echo "== 14. LAMMPS MD fracture of the same notched sheet (atomistic size, 1 core)"
+OMP_NUM_THREADS=1 $py "$here/timed.py" sheet/md_time.json "$sheet_dir" lmp -in in.fracture -var out "$out/sheet" -log "$out/sheet/md.log" -screen none
+$py "$sheet_dir/md_fracture.py" sheet "$($py -c "import json; print(json.load(open('sheet/md_time.json'))['wall'])")" > /dev/null
+echo "   MD: $($py -c "import json; t=json.load(open('sheet/md_time.json')); print(f\"{t['wall']:.1f} s wall, {t['cpu']:.1f} s CPU\")")"
+
 $py "$here/report.py" "$out" "$(stamp)"
 echo "   report: $out/report.md"

@@ -65,10 +65,17 @@ class CauchyBorn {
   /// Per-atom ψ_k, Σ_b t_b⊗ξ_b (9 per atom), Σ_bc K_bc ξ_b ξ_c (81 per atom, if tangent).
   void per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
                 std::vector<double>& p, std::vector<double>& a) const;
+  /// ψ, Σ_b t_b⊗ξ_b and (if `tangent`) Σ_bc K_bc ξ_b ξ_c of atom k's family at F.
+  struct Scratch;
+  void family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, Scratch& s, double& psi,
+              double* p9, double* a81) const;
   const Body& body_;
   std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class
   std::vector<std::int32_t> multiplicity_;
   std::size_t classes_ = 0;
+  std::vector<std::int32_t> reps_;  ///< one atom per class
+  std::vector<double> rep_weight_;  ///< Σ_{k ∈ class} w_k (w_k = Σ_p w_kp, or 1)
+  std::int64_t nmax_ = 0;           ///< largest family
 };
 
 /// Strain-based elastic constants C_MJNL = ∂²W/∂E_MJ∂E_NL from (F, P, A) (formula above),

@@ -6,11 +6,11 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <optional>
 #include <string>
 
 #include "pdcg/body/body.hpp"
+#include "pdcg/dispersion/grid.hpp"
 #include "pdcg/dispersion/model.hpp"
 
 namespace pdcg::dispersion {
@@ -34,6 +34,9 @@ class BodyDispersion {
   BodyDispersion(const body::Body& body, std::optional<std::size_t> point, bool cell);
   /// Frequencies at κ, ascending (3 for a point, 3N in cell mode).
   Eigen::VectorXd omega(const Eigen::Vector3d& kappa) const;
+  /// ω on every κ commensurate with the periodic box at once (grid.hpp; one FFT). Not in
+  /// cell mode (InputError).
+  KappaGrid grid() const;
   /// An atom of the chosen point (for detect_lattice).
   std::size_t representative_atom() const { return representative_; }
   std::string description() const { return description_; }

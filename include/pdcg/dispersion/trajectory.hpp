@@ -18,8 +18,8 @@
 namespace pdcg::dispersion {
 
 struct TrajectoryOptions {
-  int axis = 0;       ///< 0, 1, 2 = x, y, z: the wave direction
-  int component = 0;  ///< displacement component (= axis: longitudinal)
+  int axis = 0;                 ///< 0, 1, 2 = x, y, z: the wave direction
+  int component = 0;            ///< displacement component (= axis: longitudinal)
   double frame_interval = 0.0;  ///< Δt between frames (time units of the trajectory)
   Window window = Window::hann;
   double min_resolution = 0.0;  ///< refuse trajectories with a coarser Δω (0: no check)
@@ -33,13 +33,17 @@ struct LatticePlanes {
 };
 
 /// Planes from reference positions (3N) in a box periodic along `axis`. Throws InputError
-/// if the box is not periodic along the axis, or the planes are not evenly spaced.
+/// if the box is not periodic along the axis, all atoms lie in one plane (the axis is not
+/// the wave's lattice direction), or the planes are not evenly spaced.
 LatticePlanes find_planes(const std::vector<double>& reference, const atomistic::Box& box, int axis,
                           const std::string& source);
 
 /// S(κ, ω) of the frames. Every frame must hold the same atom ids. Throws InputError naming
 /// the atom id and frame index when an atom moves more than half a plane spacing from its
-/// mean position along the axis (it left its plane: diffusion, melting, a wrong axis).
+/// mean position along the axis (it left its plane: diffusion, melting, a wrong axis), or more
+/// than half the transverse lattice spacing across it (it left the axis / its site sideways;
+/// transverse spacing = (plane area per atom over the periodic transverse directions)^(1/p),
+/// the plane spacing when no transverse direction is periodic, as for a chain).
 Spectrum measure(const std::vector<atomistic::Atoms>& frames, const TrajectoryOptions& options);
 
 }  // namespace pdcg::dispersion

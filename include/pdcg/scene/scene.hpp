@@ -11,6 +11,8 @@
 ///              0.5]}]}
 ///   horizon: {factor: 3.015}            # or {value: 0.075}
 ///   material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+///   # or the Cauchy–Born material of a pdcg model file (docs/elastic.md §6):
+///   # material: {model: cauchy-born, file: res.h5}   # path relative to the scene file
 ///   boundary:
 ///     - {name: left,  region: {x_max: 0.0},  displacement: {x: 0.0}}
 ///     - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}
@@ -29,18 +31,24 @@
 /// \code{.yaml}
 ///   effects: [rupture]
 ///   rupture: {criterion: bond_stretch, critical: 2.5}   # | principal_stretch | energy_density
+///   inertia: {integrator: velocity-verlet, time_step: auto, safety: 0.8, end_time: 10.0}
+///   damping: {type: viscous, coefficient: 0.1}   # or {type: adaptive-dynamic-relaxation}
+///   initial: {velocity: {x: "0.01*sin(pi*x)"}}  # expressions in x, y, z
+///   output: {checkpoint_every: 100}               # restart: pdcg run scene.yaml --restart DIR
 /// \endcode
 #pragma once
 
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pdcg/core/units.hpp"
 #include "pdcg/solver/discretization.hpp"
+#include "pdcg/solver/material.hpp"
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
 #include "pdcg/solver/rupture.hpp"
@@ -68,6 +76,10 @@ struct Scene {
   solver::GridSpec geometry;
   double horizon_factor = 3.015, horizon_value = 0.0;
   double shear_modulus = 1.0, bulk_modulus = 10.0, density = 1.0;
+  /// `material.model`: "neo-hookean" or "cauchy-born" (then `material_file` is the pdcg-body
+  /// file, resolved against the scene file's directory, and density defaults to Σ M_k / V₀).
+  std::string material_model = "neo-hookean";
+  std::filesystem::path material_file;
   std::vector<BoundaryCondition> boundary;
   int steps = 20;
   solver::NewtonOptions newton;
@@ -79,6 +91,29 @@ struct Scene {
   std::vector<std::string> effects;
   bool rupture = false;
   solver::RuptureOptions rupture_options;
+  /// `inertia:` (explicit dynamics); without it the run is quasi-static (Newton).
+  bool inertia = false;
+  std::string integrator = "velocity-verlet";
+  double time_step = 0.0;  ///< 0 = auto (safety × stable limit)
+  double safety = 0.8;
+  double end_time = 0.0;
+  bool allow_unstable = false;
+  /// `damping:` (with inertia): viscous (coefficient) or adaptive dynamic relaxation.
+  std::string damping_type;  ///< empty = none
+  double damping_coefficient = 0.0;
+  /// `initial: {velocity: {x: …}}`: per component, expressions in x, y, z.
+  std::array<std::string, 3> initial_velocity_text;
+  std::array<std::function<double(const double*)>, 3> initial_velocity;
+  /// Time series sample interval (steps) of dynamic runs.
+  int series_every = 1;
+  /// Checkpoint every N (load or time) steps; 0 = none.
+  int checkpoint_every = 0;
+};
+
+/// Options of a run beyond the scene file.
+struct RunOptions {
+  std::optional<std::filesystem::path> output;   ///< replaces output.directory
+  std::optional<std::filesystem::path> restart;  ///< continue from the last checkpoint there
 };
 
 /// Effects a scene may list, and those this build runs.
@@ -86,6 +121,11 @@ const std::vector<std::string>& valid_effects();
 
 /// Reads and validates a scene file. Throws InputError naming file, line and key.
 Scene load_scene(const std::filesystem::path& file);
+
+/// The material the solver uses for this scene: the Neo-Hookean law of the given moduli
+/// (plane strain / plane stress / 3D), or the Cauchy–Born material of the model file
+/// (body::CauchyBornMaterial; a 2D model is its own areal, plane-strain material).
+std::unique_ptr<solver::Material> make_material(const Scene& s);
 
 /// The fully resolved scene as YAML (every default written out).
 std::string resolved_yaml(const Scene& s);
@@ -95,8 +135,11 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
                         const BoundaryCondition& bc);
 
 /// Runs the scene: per output step an HDF5 file (results_NNNN.h5) with the XDMF
-/// time series results.xdmf, reactions.csv and scene.resolved.yaml in the
-/// output directory (`out_override` replaces output.directory).
+/// time series results.xdmf, reactions.csv (dynamic: series.csv) and scene.resolved.yaml
+/// in the output directory (`out_override` replaces output.directory).
 void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_override = {});
+/// Same, with a restart: the output directory is the restart directory, and the run
+/// continues from its last checkpoint (InputError if there is none or the scene differs).
+void run_scene(const Scene& s, const RunOptions& options);
 
 }  // namespace pdcg::scene

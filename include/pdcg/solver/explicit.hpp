@@ -5,9 +5,10 @@
 /// internal force of the Model (weak or energy form) and c an optional viscous damping
 /// coefficient. Velocity Verlet (Swope et al. 1982):
 ///   v_{n+½} = v_n + ½Δt a_n,   u_{n+1} = u_n + Δt v_{n+½},
-///   a_{n+1} = M⁻¹(f_ext − f(u_{n+1})) − c v_{n+½},   v_{n+1} = v_{n+½} + ½Δt a_{n+1}
-/// (with damping the velocity in the damping force is lagged half a step; c = 0 gives the
-/// symplectic, time-reversible scheme whose energy error stays bounded).
+///   a_{n+1} = M⁻¹(f_ext − f(u_{n+1})),   v_{n+1} = v_{n+½} + ½Δt a_{n+1}
+/// (c = 0: the symplectic, time-reversible scheme whose energy error stays bounded). Damping
+/// by Strang splitting: v ← e^{−cΔt/2} v before and after each Verlet step (the damping
+/// part solved exactly: stable for every c ≥ 0, energy decays as e^{−ct} for light damping).
 /// Prescribed components follow ū(t) (velocity by central difference of ū).
 ///
 /// Stable step: for the linearised system the scheme is stable iff Δt ω_max ≤ 2, ω_max² the
@@ -27,11 +28,25 @@
 
 namespace pdcg::solver {
 
+enum class ExplicitDamping {
+  none,
+  viscous,  ///< c fixed (`damping`)
+  /// Adaptive dynamic relaxation (Underwood 1983) on the physical masses: c_n =
+  /// 2√(uᵀ ¹K u / uᵀMu) with the local diagonal stiffness estimate
+  /// ¹K_ii = −(r_i^n − r_i^{n−1}) / (Δt v_i^{n−½}), r = −f: critical damping of the lowest mode,
+  /// so the motion relaxes to static equilibrium (the quasi-static use of damping).
+  adaptive
+};
+
 struct ExplicitOptions {
   double density = 1.0;
   double time_step = 0.0;  ///< 0 = auto (safety · Δt_crit)
   double safety = 0.8;
-  double damping = 0.0;  ///< viscous coefficient c (1/time)
+  double damping = 0.0;                                  ///< viscous coefficient c (1/time)
+  ExplicitDamping damping_type = ExplicitDamping::none;  ///< none = viscous if damping > 0
+  /// Accept a time_step above the stable limit (warning instead of an InputError):
+  /// for demonstrating the instability only.
+  bool allow_unstable = false;
 };
 
 class ExplicitSolver {
@@ -42,7 +57,13 @@ class ExplicitSolver {
 
   /// Gershgorin bound Δt_crit = 2/√(max_k Σ_n |K_kn|/M_k) at displacement u.
   double critical_time_step(const Eigen::VectorXd& u) const;
+  /// The limit computed at construction (at u = 0).
+  double stable_limit() const { return crit_; }
   double time_step() const { return dt_; }
+  /// Shortens the step (e.g. to end exactly at a given time); never above the current one.
+  void shorten_time_step(double dt) {
+    if (dt > 0 && dt <= dt_) dt_ = dt;
+  }
   double time() const { return t_; }
   void set_velocity(const Eigen::VectorXd& v) { v_ = v; }
   void set_displacement(const Eigen::VectorXd& u);
@@ -58,15 +79,33 @@ class ExplicitSolver {
   /// without the bounded O((ωΔt)²) oscillation of E_kin + Π.
   double modified_kinetic_energy() const;
   const Eigen::VectorXd& mass() const { return m_; }
+  /// Internal force f(u_n) (all components).
+  const Eigen::VectorXd& internal_force() const { return f_; }
+  /// Σ f_int over the points of displacement set i (the force the constraint exerts, negated).
+  Vec3 reaction(std::size_t set) const;
+  /// Current damping coefficient (viscous: fixed; adaptive: c_n of the last step).
+  double damping_coefficient() const { return c_; }
+
+  /// Complete state after a step (for checkpoints): restoring it and stepping on gives
+  /// bitwise the same trajectory as never stopping.
+  struct State {
+    Eigen::VectorXd u, v, a, f, f_prev;
+    double t = 0.0, c = 0.0;
+  };
+  State state() const { return {u_, v_, a_, f_, f_prev_, t_, c_}; }
+  void restore(const State& s);
 
  private:
   void compute_acceleration(double t);
+  void compute_force(double t);
+  void acceleration_from_force();
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
   ExplicitOptions opt_;
   std::vector<int> prescribed_;  // dof -> (set << 2 | comp) or −1
-  Eigen::VectorXd m_, u_, v_, a_, f_;
-  double dt_ = 0.0, t_ = 0.0;
+  void update_adaptive_damping();
+  Eigen::VectorXd m_, u_, v_, a_, f_, f_prev_;
+  double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0;
 };
 
 }  // namespace pdcg::solver

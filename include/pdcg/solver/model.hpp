@@ -88,6 +88,7 @@ class Model {
   /// any other point. Empty (and not looked at per bond) without rupture.
   void set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness);
   const std::vector<int>& anchors() const { return anchor_points_; }
+  const std::vector<double>& anchor_targets() const { return anchor_u_; }
 
  private:
   Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;

@@ -54,6 +54,14 @@ struct NewtonOptions {
   int max_cutbacks = 10;    ///< halvings of the nominal step
   bool line_search = true;
   LinearSolver linear = LinearSolver::umfpack;
+  /// After every converged step, count the negative eigenvalues of the free-dof tangent
+  /// (of its symmetric part for the unsymmetric weak form) by the inertia of a sparse
+  /// LDLᵀ (Sylvester); a negative one means the equilibrium just found is unstable
+  /// (buckling, limit point): the step is undone and NumericalError thrown with that
+  /// diagnosis. Off by default (one extra factorisation per step). Independently of this
+  /// option, a run that fails after all cutbacks reports the inertia of the tangent at
+  /// the last converged state in its error message.
+  bool check_stability = false;
 };
 
 struct StepReport {
@@ -66,6 +74,9 @@ struct StepReport {
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
   double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation
+  /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
+  /// not checked, −2 if the LDLᵀ met a zero pivot (singular tangent).
+  int negative_eigenvalues = -1;
 };
 
 class StaticSolver {
@@ -96,6 +107,14 @@ class StaticSolver {
 
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
+  int step() const { return step_; }
+  /// Checkpoint restart: sets the state reached after a converged step. Call
+  /// prepare_restart() first, while the model is still the one of the start of the run.
+  void restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step);
+  /// Analyses the sparsity pattern with the tangent at u = 0, exactly as the first Newton
+  /// iteration of a fresh run does (UMFPACK's symbolic analysis looks at the values), so
+  /// that a restarted run factorises with the same ordering — bitwise the same results.
+  void prepare_restart();
   /// Reaction (Σ f_int − f_ext over the set's points) of displacement set i.
   Vec3 reaction(std::size_t set) const;
   const Eigen::VectorXd& internal_force() const { return f_; }
@@ -104,6 +123,8 @@ class StaticSolver {
  private:
   void external_force(double t, Eigen::VectorXd& fext) const;
   bool newton(double t_target, StepReport& rep);
+  /// Negative eigenvalues of the free block of K_ (symmetric part), −2 if singular.
+  int tangent_inertia();
 
   const Model* model_;
   std::vector<DisplacementSet> dsets_;

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,7 @@ struct RupturePass {
   double max_value = 0.0;    ///< largest criterion value over the intact bonds
   std::size_t rebuilt = 0;   ///< stencils rebuilt
   std::size_t anchored = 0;  ///< points no stencil couples any more
+  std::size_t inverted = 0;  ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
 };
 
 class Rupture {
@@ -73,10 +75,19 @@ class Rupture {
   std::size_t commit(const Eigen::VectorXd& u);
 
   const RuptureOptions& options() const { return opt_; }
+  /// Broken bonds as pairs (i < j), flattened [i0, j0, i1, j1, …] (checkpoints).
+  std::vector<std::int64_t> broken_pairs() const;
+  /// Checkpoint restart: breaks the given pairs on the intact body, rebuilds every touched
+  /// stencil (a pure function of the broken set) and sets the anchors as they were saved.
+  void restore(const std::vector<std::int64_t>& pairs, std::vector<int> anchor_points,
+               std::vector<double> anchor_targets);
   std::vector<double> damage() const { return body_->damage(); }
 
  private:
   void update_anchors(const Eigen::VectorXd& u);
+  /// Breaks every intact bond whose (rebuilt) BA stencil gives an inadmissible F (J ≤ 0)
+  /// at u; returns how many.
+  std::size_t break_inverted(const Eigen::VectorXd& u);
   Discretization* body_;
   Model* model_;
   RuptureOptions opt_;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -9,6 +10,7 @@
 #include "pdcg/core/error.hpp"
 #include "pdcg/dispersion/closed_form.hpp"
 #include "pdcg/dispersion/measured.hpp"
+#include "pdcg/dispersion/trajectory.hpp"
 
 #if PDCG_WITH_LAMMPS
 #include <library.h>
@@ -34,13 +36,15 @@ TEST(Measured, SyntheticWavesAreFoundWithinOneBin) {
     const double dir = (m % 2) ? 1.0 : -1.0;  // waves in both directions
     for (std::size_t t = 0; t < T; ++t)
       for (std::size_t n = 0; n < N; ++n)
-        u[t * N + n] += std::cos(k * static_cast<double>(n) * h - dir * w * static_cast<double>(t) * dt + 0.3 * m);
+        u[t * N + n] += std::cos(k * static_cast<double>(n) * h -
+                                 dir * w * static_cast<double>(t) * dt + 0.3 * m);
   }
   const Spectrum s = space_time_spectrum(u, T, N, h, dt);
   EXPECT_NEAR(s.resolution, 2 * kPi / (T * dt), 1e-15);
   const auto r = ridge(s);
   ASSERT_EQ(r.size(), N / 2);
-  for (const auto& p : r) EXPECT_LE(std::abs(p.omega - omega_of(p.kappa)), p.resolution) << "κ = " << p.kappa;
+  for (const auto& p : r)
+    EXPECT_LE(std::abs(p.omega - omega_of(p.kappa)), p.resolution) << "κ = " << p.kappa;
 }
 
 TEST(Measured, BadInputIsExplained) {
@@ -70,20 +74,27 @@ std::vector<double> lammps_chain(std::size_t N, double mu1, double mu2, double d
   // LAMMPS bond harmonic: E = K (r − r0)², so K = μ/2 for a spring of stiffness μ.
   const std::string script =
       "units lj\natom_style bond\nboundary p f f\nlattice sc 1.0\n"
-      "region box block 0 " + n + " -0.5 0.5 -0.5 0.5\n"
+      "region box block 0 " +
+      n +
+      " -0.5 0.5 -0.5 0.5\n"
       "create_box 1 box bond/types 2 extra/bond/per/atom 4 extra/special/per/atom 8\n"
       "create_atoms 1 box\nmass 1 1.0\n"
       "pair_style zero 2.5\npair_coeff * *\n"
       "bond_style harmonic\n"
-      "bond_coeff 1 " + std::to_string(mu1 / 2) + " 1.0\n"
-      "bond_coeff 2 " + std::to_string(mu2 / 2) + " 2.0\n"
+      "bond_coeff 1 " +
+      std::to_string(mu1 / 2) +
+      " 1.0\n"
+      "bond_coeff 2 " +
+      std::to_string(mu2 / 2) +
+      " 2.0\n"
       "special_bonds lj/coul 0.0 1.0 1.0\n"
       "create_bonds many all all 1 0.9 1.1\n" +
       std::string(mu2 > 0 ? "create_bonds many all all 2 1.9 2.1\n" : "") +
       "velocity all create 0.01 4928459 dist gaussian\n"
       "velocity all set NULL 0.0 0.0\nvelocity all zero linear\n"
       "fix 1 all nve\nfix 2 all setforce NULL 0.0 0.0\n"
-      "timestep " + std::to_string(dt) + "\nthermo 0\nrun 0\n";
+      "timestep " +
+      std::to_string(dt) + "\nthermo 0\nrun 0\n";
   lammps_commands_string(lmp, script.c_str());
   std::vector<double> x0(3 * N), x(3 * N), u(frames * N);
   lammps_gather_atoms(lmp, const_cast<char*>("x"), 1, 3, x0.data());
@@ -113,7 +124,8 @@ TEST(MeasuredLammps, NearestNeighbourChainRidgeMatchesClosedForm) {
   const auto r = ridge(space_time_spectrum(u, T, N, 1.0, dt * every));
   const std::vector<double> mu{1.0};
   for (const auto& p : r)
-    EXPECT_LE(std::abs(p.omega - chain_omega(p.kappa, 1.0, 1.0, mu)), p.resolution) << "κ = " << p.kappa;
+    EXPECT_LE(std::abs(p.omega - chain_omega(p.kappa, 1.0, 1.0, mu)), p.resolution)
+        << "κ = " << p.kappa;
 }
 
 TEST(MeasuredLammps, NextNearestChainRidgeMatchesClosedForm) {
@@ -124,6 +136,66 @@ TEST(MeasuredLammps, NextNearestChainRidgeMatchesClosedForm) {
   const auto r = ridge(space_time_spectrum(u, T, N, 1.0, dt * every));
   const std::vector<double> mu{1.0, 0.25};
   for (const auto& p : r)
-    EXPECT_LE(std::abs(p.omega - chain_omega(p.kappa, 1.0, 1.0, mu)), p.resolution) << "κ = " << p.kappa;
+    EXPECT_LE(std::abs(p.omega - chain_omega(p.kappa, 1.0, 1.0, mu)), p.resolution)
+        << "κ = " << p.kappa;
 }
 #endif
+
+// Bad trajectories (issue 5): atoms that leave the axis or their plane, and a wrong axis.
+namespace {
+/// Frames of a periodic 16-atom chain along x (spacing 1) vibrating along x by 0.05 and along
+/// y by `side`; atom id 5 gets `kick` (x, y, z) added in the last frame.
+std::vector<pdcg::atomistic::Atoms> chain_frames(double side, std::array<double, 3> kick,
+                                                 bool periodic_yz = false) {
+  std::vector<pdcg::atomistic::Atoms> frames(16);
+  for (std::size_t t = 0; t < frames.size(); ++t) {
+    auto& a = frames[t];
+    a.box.lo = {0, -1, -1};
+    a.box.hi = {16, 1, 1};
+    a.box.periodic = {true, periodic_yz, periodic_yz};
+    for (std::size_t i = 0; i < 16; ++i) {
+      const double ph = 0.7 * static_cast<double>(t) + 0.4 * static_cast<double>(i);
+      a.id.push_back(static_cast<std::int64_t>(i + 1));
+      a.x.insert(a.x.end(),
+                 {static_cast<double>(i) + 0.05 * std::sin(ph), side * std::cos(ph), 0.0});
+    }
+  }
+  for (int k = 0; k < 3; ++k)
+    frames.back().x[3 * 4 + static_cast<std::size_t>(k)] += kick[static_cast<std::size_t>(k)];
+  return frames;
+}
+std::string measure_error(const std::vector<pdcg::atomistic::Atoms>& frames, int axis = 0) {
+  TrajectoryOptions o;
+  o.axis = o.component = axis;
+  o.frame_interval = 0.1;
+  o.source = "chain.dump";
+  try {
+    measure(frames, o);
+  } catch (const pdcg::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Measured, AtomsThatLeaveTheAxisOrTheirPlaneAreRefused) {
+  // transverse vibration of 0.1 spacing is a chain's thermal motion: accepted
+  EXPECT_EQ(measure_error(chain_frames(0.1, {0, 0, 0})), "");
+  // sideways by 0.6 (> half the spacing 1): left the axis; the message names file, atom, frame
+  const std::string side = measure_error(chain_frames(0.0, {0, 0.6, 0}));
+  EXPECT_NE(side.find("chain.dump"), std::string::npos) << side;
+  EXPECT_NE(side.find("left the wave axis"), std::string::npos) << side;
+  EXPECT_NE(side.find("atom id 5 in frame 15"), std::string::npos) << side;
+  EXPECT_NE(side.find("less than half the transverse lattice spacing 0.5"), std::string::npos)
+      << side;
+  EXPECT_NE(measure_error(chain_frames(0.0, {0, 0, -0.6})).find("left the wave axis"),
+            std::string::npos);
+  // along the axis by 0.7: left its plane
+  const std::string along = measure_error(chain_frames(0.0, {0.7, 0, 0}));
+  EXPECT_NE(along.find("left its lattice plane"), std::string::npos) << along;
+  EXPECT_NE(along.find("atom id 5 in frame 15"), std::string::npos) << along;
+  // wrong axis in a fully periodic box: every atom in the plane y ≈ 0
+  const std::string wrong = measure_error(chain_frames(0.0, {0, 0, 0}, true), 1);
+  EXPECT_NE(wrong.find("all atoms lie in one lattice plane"), std::string::npos) << wrong;
+  EXPECT_NE(wrong.find("--axis"), std::string::npos) << wrong;
+}

@@ -62,7 +62,7 @@ TEST(Effects, BadInputIsReported) {
   e = error_of("initial: {velocity: {x: \"0\"}}\n");
   EXPECT_TRUE(has(e, "without inertia")) << e;
   e = error_of("effects: [inertia]\n");
-  EXPECT_TRUE(has(e, "not implemented")) << e;
+  EXPECT_TRUE(has(e, "inertia is listed but has no settings")) << e;
   e = error_of("effects: [rupture]\n");
   EXPECT_TRUE(has(e, "no settings")) << e;
   e = error_of("effects: [rupture]\nrupture: {criterion: bond_stretch}\n");

@@ -207,8 +207,8 @@ TEST(Stability, PerturbedGridsHaveNoSpuriousZeroModes) {
 // Measured: this homogeneous case converges in one full Newton sequence even without them
 // (printed), so here the test proves path following — the solver ends on the closed-form
 // compressed state, finite — not the necessity of the safeguard. Loss of stability
-// (buckling of a slender strip, negative tangent eigenvalue report) is not covered:
-// docs/validation.md.
+// (buckling of a slender strip, negative tangent eigenvalue report):
+// SlenderStripBucklingIsReported in test_stability_hard.cpp.
 TEST(Stability, CompressionToHalf) {
   NewtonOptions bare;
   bare.steps = 1;

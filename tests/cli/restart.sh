@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# Checkpoint/restart (issue 7): a run killed after a checkpoint (PDCG_TEST_FAIL_AFTER_STEP:
+# std::_Exit after the outputs of that step, no clean-up, like a kill) and continued with
+# `pdcg run scene.yaml --restart DIR` gives bitwise the same outputs as an uninterrupted run
+# on one thread: series/reactions CSV and XDMF byte for byte, every dataset of every
+# results_NNNN.h5 exactly equal (the files' command_line attributes differ by design).
+# Dynamic (inertia + viscous damping, prescribed motion, initial velocity) and quasi-static
+# with rupture (broken bonds, rebuilt stencils, anchors in the checkpoint).
+# Usage: restart.sh /path/to/pdcg /path/to/work
+set -u
+pdcg=$1
+work=$2
+export OMP_NUM_THREADS=1
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+fail=0
+compare() {  # compare <A> <B> <csv-name>
+  local a=$1 b=$2 csv=$3
+  cmp "$a/$csv" "$b/$csv" || { echo "FAIL $csv differs"; fail=1; }
+  cmp "$a/results.xdmf" "$b/results.xdmf" || { echo "FAIL results.xdmf differs"; fail=1; }
+  /usr/bin/python3 - "$a" "$b" <<'PY' || fail=1
+import sys, glob, os, h5py, numpy as np
+a, b = sys.argv[1], sys.argv[2]
+fa = sorted(os.path.basename(p) for p in glob.glob(a + "/results_*.h5"))
+fb = sorted(os.path.basename(p) for p in glob.glob(b + "/results_*.h5"))
+if fa != fb:
+    print("FAIL result files differ:", fa, fb); sys.exit(1)
+n = 0
+for f in fa:
+    with h5py.File(os.path.join(a, f)) as x, h5py.File(os.path.join(b, f)) as y:
+        names = []
+        x.visit(lambda k: names.append(k) if isinstance(x[k], h5py.Dataset) else None)
+        for k in names:
+            if not np.array_equal(x[k][()], y[k][()]):
+                print("FAIL", f, k, "differs"); sys.exit(1)
+            n += 1
+        for k in ("step", "time", "load_factor", "residual"):
+            if k in x.attrs and x.attrs[k] != y.attrs[k]:
+                print("FAIL", f, "attribute", k); sys.exit(1)
+print(f"ok   {len(fa)} result files, {n} datasets bitwise equal")
+PY
+}
+run_case() {  # run_case <name> <scene> <csv> <fail-after>
+  local name=$1 scene=$2 csv=$3 after=$4
+  "$pdcg" -q run "$scene" -o "$name.full" || { echo "FAIL $name: uninterrupted run"; fail=1; return; }
+  PDCG_TEST_FAIL_AFTER_STEP=$after "$pdcg" -q run "$scene" -o "$name.cut" 2>/dev/null
+  local code=$?
+  [ $code = 75 ] || { echo "FAIL $name: the injected failure did not happen (exit $code)"; fail=1; return; }
+  ls "$name.cut"/checkpoint_*.h5 >/dev/null 2>&1 || { echo "FAIL $name: no checkpoint left"; fail=1; return; }
+  echo "ok   $name: killed after step $after, left $(basename "$name.cut"/checkpoint_*.h5)"
+  "$pdcg" -q run "$scene" --restart "$name.cut" || { echo "FAIL $name: restart"; fail=1; return; }
+  compare "$name.full" "$name.cut" "$csv"
+}
+cat > dyn.yaml <<'Y'
+dimension: 2
+plane: strain
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 0.25], spacing: 0.0625}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+boundary:
+  - {name: left,  region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: "0.01*sin(3*t)"}}
+initial: {velocity: {y: "0.01*sin(pi*x)"}}
+effects: [inertia, damping]
+inertia: {end_time: 3.0}
+damping: {type: viscous, coefficient: 0.1}
+output: {every: 25, checkpoint_every: 40}
+Y
+run_case dynamic dyn.yaml series.csv 57
+cat > adr.yaml <<'Y'
+dimension: 2
+plane: strain
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 0.25], spacing: 0.0625}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+boundary:
+  - {name: left,  region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: 0.01}}
+effects: [inertia, damping]
+inertia: {end_time: 3.0}
+damping: {type: adaptive-dynamic-relaxation}
+output: {every: 30, checkpoint_every: 20}
+Y
+run_case adr adr.yaml series.csv 45
+cat > rup.yaml <<'Y'
+dimension: 2
+plane: stress
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 1.0], spacing: 0.1,
+           cracks: [{from: [0.0, 0.5], to: [0.3, 0.5]}]}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 100.0}
+boundary:
+  - {name: bottom, region: {y_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: top,    region: {y_min: 1.0}, displacement: {x: 0.0, y: "0.15*t"}}
+loading: {steps: 3}
+effects: [rupture]
+rupture: {criterion: bond_stretch, critical: 1.15}
+output: {checkpoint_every: 1}
+Y
+run_case rupture rup.yaml reactions.csv 2
+# a restart needs a checkpoint of the same scene
+out=$("$pdcg" run dyn.yaml --restart rupture.cut 2>&1); code=$?
+if [ $code = 2 ] && grep -q "another scene" <<<"$out"; then echo "ok   other scene refused"; else echo "FAIL other scene: exit $code: $out"; fail=1; fi
+mkdir -p empty
+out=$("$pdcg" run dyn.yaml --restart empty 2>&1); code=$?
+if [ $code = 2 ] && grep -q "no checkpoint" <<<"$out"; then echo "ok   no checkpoint refused"; else echo "FAIL no checkpoint: exit $code: $out"; fail=1; fi
+out=$("$pdcg" run dyn.yaml --restart dynamic.cut -o x 2>&1); code=$?
+if [ $code = 2 ] && grep -q "restart" <<<"$out"; then echo "ok   --restart with -o refused"; else echo "FAIL --restart -o: exit $code: $out"; fail=1; fi
+# progress line (stderr not a terminal: the final line): steps, time, rate, bonds broken
+out=$("$pdcg" run dyn.yaml -o progress.dyn 2>&1)
+if grep -Eq "steps 134/134 \(100%\) [0-9.e+]+/s elapsed [0-9.]+ s t = 3" <<<"$out"; then echo "ok   progress (dynamic)"; else echo "FAIL progress (dynamic): $out" | tail -3; fail=1; fi
+out=$("$pdcg" run rup.yaml -o progress.rup 2>&1)
+if grep -Eq "load steps 3/3 \(100%\) .*t = 1, 283 bonds broken" <<<"$out"; then echo "ok   progress (rupture)"; else echo "FAIL progress (rupture): $out" | tail -3; fail=1; fi
+# the stable step from the command line: refused above the limit (exit 2); forced, the run
+# diverges and exits 1 with the ratio to the limit (the limit of this bar is 0.0280)
+sed 's/inertia: {end_time: 3.0}/inertia: {time_step: 0.04, end_time: 3.0}/' dyn.yaml > fast.yaml
+out=$("$pdcg" run fast.yaml -o fast 2>&1); code=$?
+if [ $code = 2 ] && grep -q "above the stable limit" <<<"$out"; then echo "ok   time_step above the limit refused"; else echo "FAIL refuse: exit $code: $out" | tail -3; fail=1; fi
+sed 's/inertia: {end_time: 3.0}/inertia: {time_step: 0.04, end_time: 3.0, allow_unstable: true}/' dyn.yaml > forced.yaml
+out=$("$pdcg" run forced.yaml -o forced 2>&1); code=$?
+if [ $code = 1 ] && grep -Eq "diverged|inadmissible" <<<"$out"; then echo "ok   forced unstable step diverges (exit 1)"; else echo "FAIL forced: exit $code: $out" | tail -3; fail=1; fi
+if [ $fail -ne 0 ]; then echo "restart: FAILED"; exit 1; fi
+echo "restart: all passed"
