@@ -263,6 +263,10 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
         S.umfpack.factorize(A);
         mark();
         ok = S.umfpack.info() == Eigen::Success;
+        // e.g. −1 = out of memory (the int version addresses at most 2³¹ 8-byte units)
+        if (!ok)
+          log::warn("UMFPACK factorisation failed (status {}, matrix {} × {}, {} nonzeros)",
+                    S.umfpack.umfpackFactorizeReturncode(), A.rows(), A.cols(), A.nonZeros());
         if (ok) dx = S.umfpack.solve(rhs);
         break;
       }
