@@ -199,7 +199,7 @@ Scene load_scene(const std::filesystem::path& file) {
         .source(c.file)
         .key("geometry")
         .expected("geometry: {shape: rectangle, origin, size, spacing}");
-  c.keys(g, "geometry", {"shape", "origin", "size", "spacing", "holes", "cracks"});
+  c.keys(g, "geometry", {"shape", "origin", "size", "spacing", "nodes", "holes", "cracks"});
   const std::string shape =
       g["shape"] ? c.choice(g["shape"], "geometry.shape", {"rectangle", "box", "model"})
                  : (d == 2 ? "rectangle" : "box");
@@ -221,6 +221,11 @@ Scene load_scene(const std::filesystem::path& file) {
   if (!g["spacing"])
     throw c.err(g, "geometry.spacing", "missing key").expected("the grid spacing, e.g. 0.025");
   s.geometry.spacing = c.number(g["spacing"], "geometry.spacing");
+  // Grid points at cell centres (default) or on the grid vertices, boundary included.
+  if (g["nodes"])
+    s.geometry.nodes = c.choice(g["nodes"], "geometry.nodes", {"cells", "vertices"}) == "vertices"
+                           ? solver::GridNodes::vertices
+                           : solver::GridNodes::cell_centres;
   if (g["holes"]) {
     if (!g["holes"].IsSequence())
       throw c.err(g["holes"], "geometry.holes", "expected a list")
@@ -621,6 +626,8 @@ std::string resolved_yaml(const Scene& s) {
   y << YAML::Key << "size" << YAML::Value;
   vec(s.geometry.size);
   y << YAML::Key << "spacing" << YAML::Value << s.geometry.spacing;
+  y << YAML::Key << "nodes" << YAML::Value
+    << (s.geometry.nodes == solver::GridNodes::vertices ? "vertices" : "cells");
   y << YAML::Key << "holes" << YAML::Value << YAML::BeginSeq;
   for (const auto& h : s.geometry.holes) {
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value;
@@ -769,7 +776,7 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
         .source(s.source.string())
         .key("boundary[" + bc.name + "].region")
         .expected(
-            fmt::format("bounds that contain grid points (points are cell centres, spacing {}; "
+            fmt::format("bounds that contain grid points (cell centres or vertices, spacing {}; "
                         "bounds are inclusive with a tolerance of half a spacing)",
                         body.spacing()))
         .fix("check the bounds against geometry.origin and geometry.size");

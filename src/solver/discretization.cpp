@@ -98,40 +98,72 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
           .fix("choose a spacing that divides the size");
   }
   const double dx = spec.spacing;
+  const bool vert = spec.nodes == GridNodes::vertices;
+  const double slack = 1e-9 * dx;  // vertices on the boundary stay inside despite round-off
   auto inside = [&](const Vec3& p) {
     for (int a = 0; a < d; ++a)
-      if (p(a) < spec.origin(a) || p(a) > spec.origin(a) + spec.size(a)) return false;
+      if (p(a) < spec.origin(a) - slack || p(a) > spec.origin(a) + spec.size(a) + slack)
+        return false;
     for (const auto& h : spec.holes) {
       Vec3 r = p - h.center;
       if (d == 2) r.z() = 0;
-      if (r.norm() < h.radius) return false;
+      // Vertices on the circle are removed (kept, they stick out of the staircase as
+      // single points held by their families only).
+      if (r.norm() < h.radius * (vert ? 1 + 1e-9 : 1.0)) return false;
     }
     return true;
   };
+  const long extra = vert ? 1 : 0;  // vertices: n + 1 points per axis
+  const double shift = vert ? 0.0 : 0.5;
   std::vector<Vec3> x;
-  for (long k = 0; k < n[2]; ++k)
-    for (long j = 0; j < n[1]; ++j)
-      for (long i = 0; i < n[0]; ++i) {
-        Vec3 p = spec.origin + dx * Vec3(i + 0.5, j + 0.5, d == 3 ? k + 0.5 : 0.0);
-        if (d == 2) p.z() = 0.0;
-        if (inside(p)) x.push_back(p);
+  std::vector<double> vol;
+  // Dual-cell extent along each axis (vertices: half a spacing at the two ends).
+  std::vector<Vec3> extent;
+  std::vector<std::array<long, 3>> lattice;
+  // Coordinates from lattice indices only (a neighbour's position is recomputed the same
+  // way, so a point on a hole's circle is in or out consistently for both tests).
+  auto node = [&](long i, long j, long k) {
+    Vec3 p = spec.origin + dx * Vec3(i + shift, j + shift, d == 3 ? k + shift : 0.0);
+    if (d == 2) p.z() = 0.0;
+    return p;
+  };
+  for (long k = 0; k < (d == 3 ? n[2] + extra : 1); ++k)
+    for (long j = 0; j < n[1] + extra; ++j)
+      for (long i = 0; i < n[0] + extra; ++i) {
+        const Vec3 p = node(i, j, k);
+        if (!inside(p)) continue;
+        Vec3 ext = Vec3::Constant(dx);
+        const long idx[3] = {i, j, k};
+        if (vert)
+          for (int a = 0; a < d; ++a)
+            if (idx[a] == 0 || idx[a] == n[a]) ext(a) = 0.5 * dx;
+        x.push_back(p);
+        extent.push_back(ext);
+        lattice.push_back({i, j, k});
+        double v = 1;
+        for (int a = 0; a < d; ++a) v *= ext(a);
+        vol.push_back(v);
       }
   if (x.empty())
     throw InputError("the geometry holds no grid point")
         .key("geometry")
         .fix("check size, spacing and holes");
-  const double V = std::pow(dx, d), A = std::pow(dx, d - 1);
-  std::vector<double> vol(x.size(), V);
   std::vector<Vec3> surf(x.size(), Vec3::Zero());
   for (std::size_t i = 0; i < x.size(); ++i)
     for (int a = 0; a < d; ++a)
       for (int sgn : {-1, 1}) {
         Vec3 e = Vec3::Zero();
         e(a) = sgn;
-        const Vec3 q = x[i] + dx * e;
+        auto l = lattice[i];
+        l[a] += sgn;
+        const Vec3 q = node(l[0], l[1], l[2]);
         bool face = !inside(q);
         for (const auto& c : spec.cracks) face = face || crosses(c, x[i], q);
-        if (face) surf[i] += A * e;
+        if (!face) continue;
+        double area = 1;  // the dual-cell face normal to axis a
+        for (int b = 0; b < d; ++b)
+          if (b != a) area *= extent[i](b);
+        surf[i] += area * e;
       }
   return from_points(d, std::move(x), std::move(vol), std::move(surf), dx, spec.cracks, opt);
 }

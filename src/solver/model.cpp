@@ -7,7 +7,28 @@
 
 #include "pdcg/core/error.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace pdcg::solver {
+
+namespace {
+int max_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+int thread_id() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+}  // namespace
 
 Model::Model(const Discretization& body, const Material& material, ModelOptions options)
     : body_(&body), material_(material.clone()), opt_(options), d_(body.dimension()) {
@@ -103,6 +124,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
     }
   outer[n] = static_cast<int>(pos);
   std::fill(pattern_.valuePtr(), pattern_.valuePtr() + nnz, 0.0);
+  slot_.assign(static_cast<std::size_t>(max_threads()), std::vector<int>(N, -1));
 }
 
 Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u) const {
@@ -119,13 +141,26 @@ Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::Vect
 bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
   const Stencils& S = *energy_;
   const std::size_t ns = S.size(), N = body_->size();
+  const int d = d_, d2 = d * d, d4 = d2 * d2;
   Ps_.resize(ns);
-  if (tangent) As_.resize(ns);
+  if (tangent) Ac_.resize(ns * static_cast<std::size_t>(d4));
   std::atomic<bool> ok{true};
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < ns; ++s) {
     const Mat3 F = stencil_gradient(S, s, u);
-    if (!material_->evaluate(F, nullptr, &Ps_[s], tangent ? &As_[s] : nullptr)) ok = false;
+    if (!tangent) {
+      if (!material_->evaluate(F, nullptr, &Ps_[s], nullptr)) ok = false;
+      continue;
+    }
+    Tangent A;
+    if (!material_->evaluate(F, nullptr, &Ps_[s], &A)) ok = false;
+    // Compact d²×d² copy (2D: 16 of the 81 entries), contiguous per stencil: the
+    // row gather reads it once per member row, so its size is the memory traffic.
+    double* c = Ac_.data() + s * static_cast<std::size_t>(d4);
+    for (int a = 0; a < d; ++a)
+      for (int J = 0; J < d; ++J)
+        for (int b = 0; b < d; ++b)
+          for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
   }
   if (opt_.boundary == BoundaryForm::weak) {
     Pbar_.resize(N);
@@ -200,89 +235,104 @@ void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow*
   }
 }
 
-bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
-                                       SparseRow& K) const {
-  if (!evaluate_stencils(u, true)) return false;
+template <int D>
+void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
+  constexpr int D2 = D * D, D4 = D2 * D2;
   const Stencils& S = *energy_;
   const Stencils& Pst = body_->point_stencils();
   const std::size_t N = body_->size();
-  const int d = d_;
-  if (K.rows() != pattern_.rows() || K.nonZeros() != pattern_.nonZeros()) K = pattern_;
-  f.setZero(dofs());
   double* vals = K.valuePtr();
   const int* outer = K.outerIndexPtr();
-  // Per thread: slot[n] = position of point n in the current row's adjacency
-  // (O(1) column lookup; allocated once per assembly, outside the point loop).
+  const double* grad = S.grad.data();
+  const int* sidx = S.index.data();
+  // Row gather: row k of K is Σ_{S∋k} w_S Σ_{n∈S} (G_S^k)ᵀ A_S G_S^n, each stencil read
+  // once per member row; no atomics, deterministic. The per-thread slot array
+  // (slot[n] = position of n in row k's adjacency) is allocated at construction.
 #pragma omp parallel
   {
-    std::vector<int> slot(N, -1);
+    int* slot = slot_[static_cast<std::size_t>(thread_id())].data();
 #pragma omp for schedule(dynamic, 16)
     for (std::size_t k = 0; k < N; ++k) {
       const int* adj_b = adjacency_.index.data() + adjacency_.begin(k);
       const int* adj_e = adjacency_.index.data() + adjacency_.end(k);
       for (const int* p = adj_b; p != adj_e; ++p) slot[*p] = static_cast<int>(p - adj_b);
-      const std::int64_t row_len = d * (adj_e - adj_b);
-      double* rows[3];
-      for (int a = 0; a < d; ++a) {
-        rows[a] = vals + outer[d * k + a];
+      const std::int64_t row_len = D * (adj_e - adj_b);
+      double* rows[D];
+      for (int a = 0; a < D; ++a) {
+        rows[a] = vals + outer[D * k + a];
         std::fill(rows[a], rows[a] + row_len, 0.0);
       }
-      double B[3][9];  // B[a][b*3+L] = w Σ_J A_aJbL G^k_J
+      double fk[D] = {};
+      double B[D][D2];  // B[a][b*D+L] = w Σ_J A_aJbL G^k_J
       for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
         const int s = member_of_.index[q];
         const double w = S.weight[s];
-        const double* gk = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d;
+        const double* gk = grad + (S.offsets[s] + member_pos_[q]) * D;
         const Mat3& P = Ps_[s];
-        const Tangent& A = As_[s];
-        for (int a = 0; a < d; ++a) {
+        const double* A = Ac_.data() + static_cast<std::size_t>(s) * D4;
+        for (int a = 0; a < D; ++a) {
           double v = 0;
-          for (int J = 0; J < d; ++J) v += P(a, J) * gk[J];
-          f[d * k + a] += w * v;
-          for (int b = 0; b < d; ++b)
-            for (int L = 0; L < d; ++L) {
-              double t = 0;
-              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * gk[J];
-              B[a][3 * b + L] = w * t;
-            }
+          for (int J = 0; J < D; ++J) v += P(a, J) * gk[J];
+          fk[a] += w * v;
+          for (int bL = 0; bL < D2; ++bL) {
+            double t = 0;
+            for (int J = 0; J < D; ++J) t += A[(a * D + J) * D2 + bL] * gk[J];
+            B[a][bL] = w * t;
+          }
         }
-        for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
-          const int n = S.index[r];
-          const double* gn = S.grad.data() + r * d;
-          const std::int64_t c0 = static_cast<std::int64_t>(d) * slot[n];
-          for (int a = 0; a < d; ++a)
-            for (int b = 0; b < d; ++b) {
+        const auto r0 = S.offsets[s], r1 = S.offsets[s + 1];
+        for (auto r = r0; r < r1; ++r) {
+          const double* gn = grad + r * D;
+          const std::int64_t c0 = static_cast<std::int64_t>(D) * slot[sidx[r]];
+          for (int a = 0; a < D; ++a)
+            for (int b = 0; b < D; ++b) {
               double t = 0;
-              for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
+              for (int L = 0; L < D; ++L) t += B[a][b * D + L] * gn[L];
               rows[a][c0 + b] += t;
             }
         }
       }
+      for (int a = 0; a < D; ++a) f[D * k + a] = fk[a];
       if (weak_row_[k]) {
         const Vec3& e = defect_[k];
         const Tangent& A = Abar_[k];
-        for (int a = 0; a < d; ++a) {
-          for (int J = 0; J < d; ++J) f[d * k + a] -= Pbar_[k](a, J) * e(J);
-          for (int b = 0; b < d; ++b)
-            for (int L = 0; L < d; ++L) {
+        for (int a = 0; a < D; ++a) {
+          for (int J = 0; J < D; ++J) f[D * k + a] -= Pbar_[k](a, J) * e(J);
+          for (int b = 0; b < D; ++b)
+            for (int L = 0; L < D; ++L) {
               double t = 0;
-              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
-              B[a][3 * b + L] = t;
+              for (int J = 0; J < D; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
+              B[a][b * D + L] = t;
             }
         }
         for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
           const int n = Pst.index[r];
-          const double* gn = Pst.grad.data() + r * d;
-          const std::int64_t c0 = static_cast<std::int64_t>(d) * slot[n];
-          for (int a = 0; a < d; ++a)
-            for (int b = 0; b < d; ++b) {
+          const double* gn = Pst.grad.data() + r * D;
+          const std::int64_t c0 = static_cast<std::int64_t>(D) * slot[n];
+          for (int a = 0; a < D; ++a)
+            for (int b = 0; b < D; ++b) {
               double t = 0;
-              for (int L = 0; L < d; ++L) t += B[a][3 * b + L] * gn[L];
+              for (int L = 0; L < D; ++L) t += B[a][b * D + L] * gn[L];
               rows[a][c0 + b] -= t;
             }
         }
       }
     }
   }  // omp parallel
+}
+
+bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
+                                       SparseRow& K) const {
+  if (!evaluate_stencils(u, true)) return false;
+  if (K.rows() != pattern_.rows() || K.nonZeros() != pattern_.nonZeros()) K = pattern_;
+  if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
+  // More threads than at construction (omp_set_num_threads raised): one slot array each.
+  if (slot_.size() < static_cast<std::size_t>(max_threads()))
+    slot_.resize(static_cast<std::size_t>(max_threads()), std::vector<int>(body_->size(), -1));
+  if (d_ == 2)
+    assemble_rows<2>(f, K);
+  else
+    assemble_rows<3>(f, K);
   if (!anchor_points_.empty()) add_anchors(u, f, &K);
   return true;
 }

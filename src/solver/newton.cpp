@@ -11,6 +11,10 @@
 #include <cmath>
 #include <set>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 
@@ -35,7 +39,38 @@ struct StaticSolver::Solvers {
   Eigen::SparseLU<SparseCol> lu;
   Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double>> bicg;
   bool analysed = false;
+  // Reduced tangent K_ff in the column-major storage the factorisations read, filled
+  // in place from the full row-major K through red_map_ (no per-iteration copy).
+  SparseCol Kff;
 };
+
+namespace {
+// The sparse direct factorisations spend their time in many small dense BLAS calls
+// (supernodes / frontal matrices). A threaded BLAS (OpenBLAS built with OpenMP) then
+// meets an OpenMP barrier per call; on a loaded or oversubscribed machine a barrier
+// costs a scheduler time slice, and the factorisation was measured 20× slower with
+// 2 threads than with 1 (docs/performance.md). The factorisation and the triangular
+// solves therefore run on one thread; the assembly keeps all threads.
+class SerialBlas {
+ public:
+  SerialBlas() {
+#ifdef _OPENMP
+    saved_ = omp_get_max_threads();
+    omp_set_num_threads(1);
+#endif
+  }
+  ~SerialBlas() {
+#ifdef _OPENMP
+    omp_set_num_threads(saved_);
+#endif
+  }
+  SerialBlas(const SerialBlas&) = delete;
+  SerialBlas& operator=(const SerialBlas&) = delete;
+
+ private:
+  int saved_ = 1;
+};
+}  // namespace
 
 StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> displacement,
                            std::vector<TractionSet> traction, NewtonOptions options)
@@ -97,25 +132,32 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
   Eigen::VectorXd f;
   if (!model.internal_force_and_tangent(u_, f, K_))
     throw NumericalError("the reference configuration is inadmissible for the material");
+  // Reduced pattern (column-major) and the map from its value array into K's:
+  // build K_ff with each entry's value = its position in K, then read the map off.
   std::vector<Eigen::Triplet<double, int>> trip;
   for (int r = 0; r < K_.outerSize(); ++r) {
     if (free_index_[r] < 0) continue;
     for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q) {
       const int c = K_.innerIndexPtr()[q];
-      if (free_index_[c] >= 0) trip.emplace_back(free_index_[r], free_index_[c], 0.0);
+      if (free_index_[c] >= 0)
+        trip.emplace_back(free_index_[r], free_index_[c], static_cast<double>(q));
     }
   }
   const int nf = static_cast<int>(free_dofs_.size());
-  Kff_.resize(nf, nf);
-  Kff_.setFromTriplets(trip.begin(), trip.end());
-  Kff_.makeCompressed();
-  red_map_.reserve(Kff_.nonZeros());
-  for (int r = 0; r < K_.outerSize(); ++r) {
-    if (free_index_[r] < 0) continue;
-    for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q)
-      if (free_index_[K_.innerIndexPtr()[q]] >= 0) red_map_.push_back(q);
-  }
   solvers_ = std::make_shared<Solvers>();
+  SparseCol& Kff = solvers_->Kff;
+  Kff.resize(nf, nf);
+  Kff.setFromTriplets(trip.begin(), trip.end());  // no duplicates: one entry per (r, c)
+  Kff.makeCompressed();
+  trip = {};
+  red_map_.resize(Kff.nonZeros());
+  for (Eigen::Index q = 0; q < Kff.nonZeros(); ++q)
+    red_map_[q] = static_cast<std::int64_t>(Kff.valuePtr()[q]);
+  // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
+  // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
+  solvers_->umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+  // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
+  solvers_->umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
 }
 
 void StaticSolver::external_force(double t, Eigen::VectorXd& fext) const {
@@ -189,34 +231,57 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       return true;
     }
     // Linear solve.
-    for (std::size_t q = 0; q < red_map_.size(); ++q)
-      Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
-    const SparseCol A = Kff_;
-    bool ok = true;
     auto& S = *solvers_;
+    {
+      double* kv = S.Kff.valuePtr();
+      const double* fv = K_.valuePtr();
+      const auto nnz = static_cast<std::int64_t>(red_map_.size());
+#pragma omp parallel for schedule(static)
+      for (std::int64_t q = 0; q < nnz; ++q) kv[q] = fv[red_map_[q]];
+    }
+    const SparseCol& A = S.Kff;
+    bool ok = true;
+    const auto t_fact = std::chrono::steady_clock::now();
+    double t_solve_start = 0;
+    auto mark = [&] {
+      t_solve_start =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fact).count();
+    };
     switch (opt_.linear) {
-      case LinearSolver::cholmod:
+      case LinearSolver::cholmod: {
+        const SerialBlas serial;
         if (!S.analysed) S.cholmod.analyzePattern(A);
         S.cholmod.factorize(A);
+        mark();
         ok = S.cholmod.info() == Eigen::Success;
         if (ok) dx = S.cholmod.solve(rhs);
         break;
-      case LinearSolver::umfpack:
+      }
+      case LinearSolver::umfpack: {
+        const SerialBlas serial;
         if (!S.analysed) S.umfpack.analyzePattern(A);
         S.umfpack.factorize(A);
+        mark();
         ok = S.umfpack.info() == Eigen::Success;
+        // e.g. −1 = out of memory (the int version addresses at most 2³¹ 8-byte units)
+        if (!ok)
+          log::warn("UMFPACK factorisation failed (status {}, matrix {} × {}, {} nonzeros)",
+                    S.umfpack.umfpackFactorizeReturncode(), A.rows(), A.cols(), A.nonZeros());
         if (ok) dx = S.umfpack.solve(rhs);
         break;
+      }
       case LinearSolver::sparse_lu:
         if (!S.analysed) S.lu.analyzePattern(A);
         S.lu.factorize(A);
+        mark();
         ok = S.lu.info() == Eigen::Success;
         if (ok) dx = S.lu.solve(rhs);
         break;
       case LinearSolver::bicgstab:
         S.bicg.setTolerance(std::min(1e-3 * opt_.tolerance, 1e-10));
         S.bicg.setMaxIterations(5000);
-        S.bicg.compute(A);
+        S.bicg.compute(A);  // ILUT: the "factorisation"
+        mark();
         dx = S.bicg.solve(rhs);
         ok = S.bicg.info() == Eigen::Success;
         break;
@@ -225,6 +290,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     const auto t2 = std::chrono::steady_clock::now();
     rep.assembly_seconds += std::chrono::duration<double>(t1 - t0).count();
     rep.solve_seconds += std::chrono::duration<double>(t2 - t1).count();
+    rep.factor_seconds += t_solve_start;
     if (!ok || !dx.allFinite()) {
       if (opt_.linear == LinearSolver::cholmod) {
         log::warn("CHOLMOD failed (tangent not positive definite); falling back to UMFPACK");
@@ -360,8 +426,9 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
 }
 
 int StaticSolver::tangent_inertia() {
-  for (std::size_t q = 0; q < red_map_.size(); ++q) Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
-  const SparseCol A = Kff_;
+  SparseCol& Kff = solvers_->Kff;
+  for (std::size_t q = 0; q < red_map_.size(); ++q) Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+  const SparseCol& A = Kff;
   const SparseCol At = A.transpose();
   const SparseCol S = 0.5 * (A + At);
   // Sylvester: P S Pᵀ = L D Lᵀ has as many negative entries of D as S has negative
@@ -479,8 +546,9 @@ void StaticSolver::prepare_restart() {
   Eigen::VectorXd f;
   if (!model_->internal_force_and_tangent(Eigen::VectorXd::Zero(model_->dofs()), f, K_))
     throw NumericalError("inadmissible reference state while preparing a restart");
-  for (std::size_t q = 0; q < red_map_.size(); ++q) Kff_.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
-  const SparseCol A = Kff_;
+  for (std::size_t q = 0; q < red_map_.size(); ++q)
+    S.Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
+  const SparseCol& A = S.Kff;
   if (opt_.linear == LinearSolver::cholmod)
     S.cholmod.analyzePattern(A);
   else if (opt_.linear == LinearSolver::umfpack)

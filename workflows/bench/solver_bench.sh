@@ -1,11 +1,16 @@
 #!/usr/bin/env bash
-# BA solver benchmark (issue 6): residual+tangent assembly time and linear-solve time per
-# Newton iteration versus the number of points, 2D (plane strain, UMFPACK) and 3D, with the
-# fitted growth exponent t ∝ N^p. Writes $OUT/solver_bench.csv and prints the fit.
+# BA solver benchmark (issues 6 and 10 §3): per Newton iteration, residual+tangent assembly,
+# factorisation, and the rest of the linear solve (reduction + triangular solves / Krylov
+# iterations), and peak memory, versus the number of points; 2D (plane strain) and 3D unit
+# square / cube, m = 3.015, weak form (UMFPACK) plus the symmetric energy form with CHOLMOD
+# and the iterative fallback (BiCGSTAB + ILUT) at the comparison sizes. Writes
+# $OUT/solver_bench.csv, prints a markdown table and the fitted growth t ∝ N^p.
 #   workflows/bench/solver_bench.sh [OUT=build/bench]
 # Environment: SIZES_2D (points per edge, default "100 200 400" = 10⁴, 4·10⁴, 1.6·10⁵),
-#   SIZES_3D (default "10 14 18 22"; 22³ ≈ 10⁴; 37³ ≈ 5·10⁴ only if BENCH_3D_LARGE=1),
-#   LINEAR_3D (default bicgstab), OMP_NUM_THREADS (default: all cores).
+#   SIZES_3D (default "10 14 18 22"; 22³ ≈ 10⁴; 37³ ≈ 5·10⁴), COMPARE_2D (default "100"),
+#   COMPARE_3D (default "10"): sizes at which CHOLMOD (energy form) and BiCGSTAB+ILUT also run,
+#   TOL (Newton tolerance, default 1e-8), OMP_NUM_THREADS (default: all cores). An empty
+#   list (SIZES_2D="") skips that part.
 set -euo pipefail
 source "$(dirname "$0")/../lib/setup.sh"
 pdcg_build_target() {  # configure once, build only the given targets
@@ -18,35 +23,56 @@ BIN="$PDCG_BUILD/workflows/bench/bench_solver_newton"
 OUT=${1:-$PDCG_BUILD/bench}
 mkdir -p "$OUT"
 CSV="$OUT/solver_bench.csv"
-echo "# $(date -u +%FT%TZ) $(uname -n) load: $(cut -d' ' -f1-3 /proc/loadavg) threads: ${OMP_NUM_THREADS:-$(nproc)}" >"$CSV"
-echo "dim,n,points,linear,newton_iterations,assembly_s_per_it,solve_s_per_it,peak_rss_mb" >>"$CSV"
+BLAS=$(readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null || echo unknown)
+echo "# $(date -u +%FT%TZ) $(uname -n) $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, load: $(cut -d' ' -f1-3 /proc/loadavg), threads: ${OMP_NUM_THREADS:-$(nproc)}, BLAS: $BLAS" >"$CSV"
+KEYS="dim n points linear form newton_iterations assembly_s_per_it factor_s_per_it solve_s_per_it peak_rss_mb"
+echo "${KEYS// /,}" >>"$CSV"
 run() {
   local line
-  line=$("$BIN" "$@")
+  # (CHOLMOD prints its warnings on stdout: keep the result line only)
+  line=$("$BIN" "$@" "${TOL:-1e-8}" | grep '^dim=')
   echo "$line"
-  # key=value pairs → CSV
-  /usr/bin/python3 - "$line" >>"$CSV" <<'PY'
+  /usr/bin/python3 - "$line" "$KEYS" >>"$CSV" <<'PY'
 import sys
 kv = dict(p.split("=") for p in sys.argv[1].split())
-print(",".join(kv[k] for k in ["dim", "n", "points", "linear", "newton_iterations",
-                               "assembly_s_per_it", "solve_s_per_it", "peak_rss_mb"]))
+print(",".join(kv[k] for k in sys.argv[2].split()))
 PY
 }
-for n in ${SIZES_2D:-100 200 400}; do run 2 "$n" umfpack; done
-SIZES=${SIZES_3D:-10 14 18 22}
-[[ "${BENCH_3D_LARGE:-0}" == 1 ]] && SIZES="$SIZES 37"
-for n in $SIZES; do run 3 "$n" "${LINEAR_3D:-bicgstab}"; done
+for n in ${SIZES_2D-100 200 400}; do
+  run 2 "$n" umfpack weak
+  if [[ " ${COMPARE_2D-100} " == *" $n "* ]]; then
+    run 2 "$n" cholmod energy
+    run 2 "$n" bicgstab weak
+  fi
+done
+for n in ${SIZES_3D-10 14 18 22}; do
+  run 3 "$n" umfpack weak
+  if [[ " ${COMPARE_3D-10} " == *" $n "* ]]; then
+    run 3 "$n" cholmod energy
+    run 3 "$n" bicgstab weak
+  fi
+done
 /usr/bin/python3 - "$CSV" <<'PY'
 import sys, numpy as np
-rows = [l.strip().split(",") for l in open(sys.argv[1]) if l[0].isdigit()]
+lines = open(sys.argv[1]).read().splitlines()
+print(lines[0])
+head = lines[1].split(",")
+rows = [dict(zip(head, l.split(","))) for l in lines[2:] if l and l[0].isdigit()]
+print("| dim | points | linear (form) | Newton its | assembly s/it | factorisation s/it | rest of solve s/it | peak RSS MB | kB/point |")
+print("|---|---:|---|---:|---:|---:|---:|---:|---:|")
+for r in rows:
+    print(f"| {r['dim']} | {int(r['points']):,} | {r['linear']} ({r['form']}) | {r['newton_iterations']} | "
+          f"{float(r['assembly_s_per_it']):.3g} | {float(r['factor_s_per_it']):.3g} | "
+          f"{float(r['solve_s_per_it']):.3g} | {float(r['peak_rss_mb']):.0f} | "
+          f"{1024 * float(r['peak_rss_mb']) / int(r['points']):.0f} |")
 for dim in ("2", "3"):
-    r = [x for x in rows if x[0] == dim]
+    r = [x for x in rows if x["dim"] == dim and x["linear"] == "umfpack"]
     if len(r) < 2:
         continue
-    N = np.array([float(x[2]) for x in r])
-    for col, name in ((5, "assembly"), (6, "linear solve")):
+    N = np.array([float(x["points"]) for x in r])
+    for col, name in (("assembly_s_per_it", "assembly"), ("factor_s_per_it", "factorisation")):
         t = np.array([float(x[col]) for x in r])
         p, c = np.polyfit(np.log(N), np.log(t), 1)
-        print(f"{dim}D {name}: t = {np.exp(c):.3e} N^{p:.2f}  (N = {', '.join(f'{int(v)}' for v in N)})")
+        print(f"{dim}D {name} (UMFPACK rows): t = {np.exp(c):.3e} N^{p:.2f}  (N = {', '.join(f'{int(v)}' for v in N)})")
 PY
 echo "wrote $CSV"

@@ -56,8 +56,19 @@ struct Crack {
   Vec3 from = Vec3::Zero(), to = Vec3::Zero();
 };
 
+/// Where the grid points sit.
+///  - cell_centres (default): x = origin + (i + ½)Δx, i = 0 … n−1, V = Δx^d; the outermost
+///    points are Δx/2 inside the boundary.
+///  - vertices: x = origin + iΔx, i = 0 … n, the points of the boundary lie on it; each
+///    point owns its dual cell clipped to the box (V = Δx^d, halved per boundary axis:
+///    Δx^d/2 on a face, Δx^d/4 at a 2D corner), boundary faces are the dual-cell faces.
+///    Displacement sets selected at x = 0 / x = L then act on the true boundary, the gauge
+///    a continuum (FEM) solution has.
+enum class GridNodes { cell_centres, vertices };
+
 /// A regular grid body: rectangle (2D) or box (3D) with holes and cracks.
 struct GridSpec {
+  GridNodes nodes = GridNodes::cell_centres;
   int dimension = 2;
   Vec3 origin = Vec3::Zero();
   Vec3 size = Vec3::Ones();

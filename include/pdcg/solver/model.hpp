@@ -93,6 +93,8 @@ class Model {
  private:
   Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;
   bool evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const;
+  template <int D>
+  void assemble_rows(Eigen::VectorXd& f, SparseRow& K) const;
 
   const Discretization* body_;
   std::unique_ptr<Material> material_;
@@ -109,9 +111,10 @@ class Model {
   SparseRow pattern_;
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
-  mutable std::vector<Tangent> As_;
+  mutable std::vector<double> Ac_;  // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
   mutable std::vector<Mat3> Pbar_;
   mutable std::vector<Tangent> Abar_;
+  mutable std::vector<std::vector<int>> slot_;  // per thread: column slot of each point
   std::vector<int> anchor_points_;
   std::vector<double> anchor_u_;  // d per anchored point
   double anchor_k_ = 0.0;

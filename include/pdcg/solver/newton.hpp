@@ -73,6 +73,7 @@ struct StepReport {
   int cutbacks = 0;               ///< cutbacks spent on this step
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
+  double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation
   /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
   /// not checked, −2 if the LDLᵀ met a zero pivot (singular tangent).
   int negative_eigenvalues = -1;
@@ -137,9 +138,8 @@ class StaticSolver {
   double t_ = 0.0;
   int step_ = 0;
   SparseRow K_;
-  // reduced pattern gather map
+  // reduced pattern gather map: K_ff value q (column-major, in Solvers) = K_ value red_map_[q]
   std::vector<std::int64_t> red_map_;
-  SparseRow Kff_;
   struct Solvers;
   std::shared_ptr<Solvers> solvers_;
 };

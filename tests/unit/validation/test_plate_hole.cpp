@@ -108,13 +108,12 @@ std::vector<double> run_plate(double spacing, const fs::path& dir) {
 
 /// Runs pdcg on the plate and compares with the FEM curve; returns the largest relative
 /// deviation over the 20 steps (printed per step).
-double max_deviation_from_fem() {
+double max_deviation_from_fem(double default_spacing) {
   const Curve fem = read_fem(fs::path(PDCG_TEST_DATA_DIR) / "plate_hole_fem.csv");
   EXPECT_EQ(fem.d.size(), 21u);
-  // 20 points across: the run takes seconds. PDCG_PLATE_SPACING overrides it (for the
-  // Δx-convergence study of docs/validation.md).
+  // PDCG_PLATE_SPACING overrides the spacing (Δx-convergence study of docs/validation.md).
   const char* env = std::getenv("PDCG_PLATE_SPACING");
-  const double spacing = env ? std::atof(env) : 0.05;
+  const double spacing = env ? std::atof(env) : default_spacing;
   const auto pd = run_plate(
       spacing, fs::temp_directory_path() / ("pdcg_test_plate_hole_" + std::to_string(spacing)));
   EXPECT_EQ(pd.size(), fem.d.size());  // row 0 = unloaded state, then 20 steps
@@ -131,14 +130,20 @@ double max_deviation_from_fem() {
 
 }  // namespace
 
-// Issue 6 acceptance: 2% at every step. NOT MET (measured 4.6% at Δx = 0.05, 3.6% at
-// Δx = 0.025, pdcg below FEM, growing with d; docs/validation.md). Disabled so the suite
-// stays green; run with --gtest_also_run_disabled_tests.
-TEST(PlateWithHole, DISABLED_ReactionMatchesFemWithin2Percent) {
-  EXPECT_LT(max_deviation_from_fem(), 0.02);  // issue 6 acceptance
+#ifdef PDCG_PLATE_ACCEPTANCE
+// Issue 6 acceptance: 2% at every step, at Δx = 0.0125 (5 588 points). Measured: pdcg is
+// 1.58% … 1.98% below FEM (largest at d = 1); at Δx = 0.05 / 0.025 the deviation is
+// 4.6% / 3.6%: the error converges with Δx (docs/validation.md, convergence table).
+// Executable test_validation_acceptance, label `slow` (minutes).
+TEST(PlateWithHole, ReactionMatchesFemWithin2Percent) {
+  EXPECT_LT(max_deviation_from_fem(0.0125), 0.02);  // issue 6 acceptance
 }
-
-// Regression guard until the acceptance above is met: the deviation measured when this
-// test was written (4.6% at Δx = 0.05) must not grow; 5% leaves room for round-off and
-// solver-tolerance changes only.
-TEST(PlateWithHole, ReactionWithinCurrentBoundOfFem) { EXPECT_LT(max_deviation_from_fem(), 0.05); }
+#else
+// Fast regression guard on the coarse grid (Δx = 0.05, 20 points across, seconds): the
+// deviation measured there (4.6%, pdcg below FEM; the acceptance holds only from
+// Δx = 0.0125 on) must not grow; 5% leaves room for round-off and solver-tolerance
+// changes only.
+TEST(PlateWithHole, ReactionWithinCurrentBoundOfFem) {
+  EXPECT_LT(max_deviation_from_fem(0.05), 0.05);
+}
+#endif
