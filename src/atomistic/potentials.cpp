@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "eam_tables.hpp"
+#include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/atomistic/lammps_potential.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/core/error.hpp"
@@ -691,18 +692,11 @@ class EamModel final : public Potential {
       }
     }
     // embedding energy and F'(ρ̄) (linear beyond ρ_max)
-    double p = rho * e_.rdrho + 1.0;
-    int m = static_cast<int>(p);
-    m = std::max(1, std::min(m, e_.nrho - 1));
-    p -= m;
-    p = std::min(p, 1.0);
-    const double* coeff =
-        e_.frho_spline[static_cast<std::size_t>(e_.type2frho[static_cast<std::size_t>(kt)])]
-            .data() +
-        7 * m;
-    const double fp = (coeff[0] * p + coeff[1]) * p + coeff[2];
-    double psi = ((coeff[3] * p + coeff[4]) * p + coeff[5]) * p + coeff[6];
-    if (rho > e_.rhomax) psi += fp * (rho - e_.rhomax);
+    const eam::Embedding emb = eam::embedding(
+        e_.frho_spline[static_cast<std::size_t>(e_.type2frho[static_cast<std::size_t>(kt)])].data(),
+        rho, e_.rdrho, e_.nrho, e_.rhomax);
+    const double fp = emb.first;
+    double psi = emb.value;
     // pass 2: t_kj = (F'_k ρ'_{j→k}(r) + ½ φ'(r)) Y/r, ψ_k += ½ φ(r)
     for (std::int64_t b = 0; b < f.size; ++b) {
       const double* y = f.bond + 3 * b;
@@ -760,14 +754,7 @@ class EamModel final : public Potential {
     auto spline_of = [](const std::vector<std::vector<double>>& sp, int which, int m) {
       return sp[static_cast<std::size_t>(which)].data() + 7 * m;
     };
-    // grid argument as LAMMPS computes it; `clamped` when q hit its upper bound
-    auto locate = [](double x, double rdx, int nmax, int& m, bool& clamped) {
-      double q = x * rdx + 1.0;
-      m = std::min(static_cast<int>(q), nmax - 1);
-      q -= m;
-      clamped = q > 1.0;
-      return std::min(q, 1.0);
-    };
+    using eam::locate;
     double rho = 0.0;
     for (std::int64_t b = 0; b < n; ++b) {
       if (f.pair_factor && f.pair_factor[b] == 0.0) continue;
@@ -783,15 +770,10 @@ class EamModel final : public Potential {
         rho += ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
       }
     }
-    double p = rho * e_.rdrho + 1.0;
-    int m = static_cast<int>(p);
-    m = std::max(1, std::min(m, e_.nrho - 1));
-    p -= m;
-    const bool fclamped = p > 1.0;
-    p = std::min(p, 1.0);
-    const double* cf = spline_of(e_.frho_spline, e_.type2frho[static_cast<std::size_t>(kt)], m);
-    const double fp = (cf[0] * p + cf[1]) * p + cf[2];
-    const double fpp = fclamped ? 0.0 : (2.0 * cf[0] * p + cf[1]) * e_.rdrho;
+    const eam::Embedding emb =
+        eam::embedding(spline_of(e_.frho_spline, e_.type2frho[static_cast<std::size_t>(kt)], 0),
+                       rho, e_.rdrho, e_.nrho, e_.rhomax);
+    const double fp = emb.first, fpp = emb.second;
     double* u = work;  // g_j e_j
     for (std::int64_t b = 0; b < n; ++b) {
       const double* y = f.bond + 3 * b;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 
+#include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/atomic_output.hpp"
 
@@ -54,13 +55,7 @@ void eam_family_rows(const atomistic::EamView& E, const body::Body& body, const 
   const double* fac = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
   const int n1 = E.ntypes + 1;
   const int kt = body.type[static_cast<size_t>(k)];
-  auto locate = [](double x, double rdx, int nmax, int& m, bool& clamped) {
-    double q = x * rdx + 1.0;
-    m = std::min(static_cast<int>(q), nmax - 1);
-    q -= m;
-    clamped = q > 1.0;
-    return std::min(q, 1.0);
-  };
+  using atomistic::eam::locate;
   auto jtype = [&](std::int64_t b) {
     return body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0 + b)])];
   };
@@ -77,15 +72,9 @@ void eam_family_rows(const atomistic::EamView& E, const body::Body& body, const 
       rho += ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
     }
   }
-  double p = rho * E.rdrho + 1.0;
-  int m = static_cast<int>(p);
-  m = std::max(1, std::min(m, E.nrho - 1));
-  p -= m;
-  const bool fclamped = p > 1.0;
-  p = std::min(p, 1.0);
-  const double* cf = E.frho[static_cast<size_t>(kt)] + 7 * m;
-  const double fp = (cf[0] * p + cf[1]) * p + cf[2];
-  const double fpp = fclamped ? 0.0 : (2.0 * cf[0] * p + cf[1]) * E.rdrho;
+  const atomistic::eam::Embedding emb =
+      atomistic::eam::embedding(E.frho[static_cast<size_t>(kt)], rho, E.rdrho, E.nrho, E.rhomax);
+  const double fp = emb.first, fpp = emb.second;
   double U[3] = {0, 0, 0}, S1 = 0.0, Dsum[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   for (std::int64_t b = 0; b < n; ++b) {
     const double* y = bonds + 3 * (b0 + b);
@@ -416,7 +405,7 @@ void VelocityVerlet::evaluate_eam() {
   const std::int64_t n = static_cast<std::int64_t>(body_.size());
   const atomistic::EamView& E = *eam_;
   const int n1 = E.ntypes + 1;
-  const int nr1 = E.nr - 1, nrho1 = E.nrho - 1;
+  const int nr1 = E.nr - 1, nrho = E.nrho;
   const double rdr = E.rdr, rdrho = E.rdrho, rhomax = E.rhomax, cutsq = E.cutforcesq;
   const double* const* rhor = E.rhor.data();
   const double* const* z2r = E.z2r.data();
@@ -477,16 +466,10 @@ void VelocityVerlet::evaluate_eam() {
           r += thread_rho_[static_cast<size_t>(th)][static_cast<size_t>(k)];
         rho[k] = r;
       }
-      double p = r * rdrho + 1.0;
-      int m = static_cast<int>(p);
-      m = std::max(1, std::min(m, nrho1));
-      p -= m;
-      p = std::min(p, 1.0);
-      const double* c = frho[type[k]] + 7 * m;
-      fp[k] = (c[0] * p + c[1]) * p + c[2];
-      double phi = ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
-      if (r > rhomax) phi += fp[k] * (r - rhomax);
-      energy += phi;
+      const atomistic::eam::Embedding emb =
+          atomistic::eam::embedding(frho[type[k]], r, rdrho, nrho, rhomax);
+      fp[k] = emb.first;
+      energy += emb.value;
     }
     // pass 3: pair forces and energies
 #pragma omp for schedule(static)

@@ -1,0 +1,45 @@
+#pragma once
+/// Table lookups of LAMMPS's PairEAM (pair_eam.cpp, `compute` and `file2array`/`array2spline`),
+/// shared by the native EAM styles (atomistic) and the half-family EAM path of the dynamics.
+/// Each table row m holds 7 coefficients: [0..2] the derivative's quadratic, [3..6] the
+/// value's cubic in the fraction p ∈ [0, 1] of the grid cell, as LAMMPS stores them.
+#include <algorithm>
+
+namespace pdcg::atomistic::eam {
+
+/// Grid cell of a radial argument x (r with rdx = 1/dr) as LAMMPS computes it: row m ≤ nmax−1
+/// and the returned fraction p ≤ 1; `clamped` when p hit its upper bound (x past the table:
+/// the second derivative is taken as 0 there).
+inline double locate(double x, double rdx, int nmax, int& m, bool& clamped) {
+  double q = x * rdx + 1.0;
+  m = std::min(static_cast<int>(q), nmax - 1);
+  q -= m;
+  clamped = q > 1.0;
+  return std::min(q, 1.0);
+}
+
+/// Embedding function at ρ̄: F, F′ and F″ (Daw & Baskes 1984; LAMMPS splines). Beyond the
+/// table (ρ̄ > ρ_max) F is continued linearly, F(ρ̄) = F(ρ_max) + F′(ρ_max)(ρ̄ − ρ_max), as
+/// LAMMPS does, and F″ = 0.
+struct Embedding {
+  double value, first, second;
+};
+
+/// `row0` points at the 7-coefficient rows of one embedding table (row m at row0 + 7m).
+inline Embedding embedding(const double* row0, double rho, double rdrho, int nrho, double rhomax) {
+  double p = rho * rdrho + 1.0;
+  int m = static_cast<int>(p);
+  m = std::max(1, std::min(m, nrho - 1));
+  p -= m;
+  const bool clamped = p > 1.0;
+  p = std::min(p, 1.0);
+  const double* c = row0 + 7 * m;
+  Embedding e;
+  e.first = (c[0] * p + c[1]) * p + c[2];
+  e.value = ((c[3] * p + c[4]) * p + c[5]) * p + c[6];
+  if (rho > rhomax) e.value += e.first * (rho - rhomax);
+  e.second = clamped ? 0.0 : (2.0 * c[0] * p + c[1]) * rdrho;
+  return e;
+}
+
+}  // namespace pdcg::atomistic::eam
