@@ -215,6 +215,30 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
     throw c.err(m, "plane", "a 2D Cauchy–Born model is a plane-strain (areal) material")
         .value(s.plane)
         .fix("set plane: strain");
+  if (m["per_point"]) {
+    try {
+      s.material_per_point = m["per_point"].as<bool>();
+    } catch (const YAML::Exception&) {
+      throw c.err(m["per_point"], "material.per_point", "not a boolean")
+          .value(m["per_point"].Scalar())
+          .expected("true or false");
+    }
+  }
+  if (s.material_per_point) {
+    if (!s.model_geometry)
+      throw c
+          .err(m["per_point"], "material.per_point",
+               "a per-point material needs the model's own points as the body")
+          .fix(fmt::format("set geometry: {{shape: model, file: {}}}", f.filename().string()));
+    if (std::filesystem::weakly_canonical(s.model_geometry->file) !=
+        std::filesystem::weakly_canonical(f))
+      throw c
+          .err(m["file"], "material.file",
+               "a per-point material must come from the geometry's model file (point p of the "
+               "body is point p of the model)")
+          .value(fmt::format("material {} vs geometry {}", f.string(),
+                             s.model_geometry->file.string()));
+  }
   if (!m["density"]) {
     double mass = 0;
     for (double v : b->mass) mass += v;
@@ -343,13 +367,18 @@ Scene load_scene(const std::filesystem::path& file) {
   }
   // material
   if (const auto m = root["material"]) {
-    c.keys(m, "material", {"model", "shear_modulus", "bulk_modulus", "density", "file"});
+    c.keys(m, "material",
+           {"model", "shear_modulus", "bulk_modulus", "density", "file", "per_point"});
     if (m["model"])
       s.material_model = c.choice(m["model"], "material.model", {"neo-hookean", "cauchy-born"});
     if (m["density"]) s.density = c.number(m["density"], "material.density");
     if (s.material_model == "cauchy-born") {
       load_cauchy_born(c, m, file, s);
     } else {
+      if (m["per_point"])
+        throw c
+            .err(m["per_point"], "material.per_point", "per_point is for the Cauchy–Born material")
+            .fix("remove material.per_point, or set material.model: cauchy-born");
       if (m["file"])
         throw c.err(m["file"], "material.file", "a model file is for the Cauchy–Born material")
             .fix("remove material.file, or set material.model: cauchy-born");
@@ -730,9 +759,10 @@ std::string resolved_yaml(const Scene& s) {
   y << YAML::EndMap;
   y << YAML::Key << "material" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
     << "model" << YAML::Value << s.material_model;
-  if (s.material_model == "cauchy-born")
+  if (s.material_model == "cauchy-born") {
     y << YAML::Key << "file" << YAML::Value << s.material_file.string();
-  else
+    if (s.material_per_point) y << YAML::Key << "per_point" << YAML::Value << true;
+  } else
     y << YAML::Key << "shear_modulus" << YAML::Value << s.shear_modulus << YAML::Key
       << "bulk_modulus" << YAML::Value << s.bulk_modulus;
   y << YAML::Key << "density" << YAML::Value << s.density << YAML::EndMap;
@@ -921,7 +951,7 @@ void write_fields(const std::filesystem::path& dir, const Scene& s,
     }
     double psi = 0;
     solver::Mat3 P = solver::Mat3::Zero();
-    material.evaluate(F[i], &psi, &P, nullptr);
+    material.evaluate_at(static_cast<int>(i), F[i], &psi, &P, nullptr);
     const solver::Mat3 Ff = material.full_deformation_gradient(F[i]);
     const solver::Mat3 sigma = P * Ff.transpose() / Ff.determinant();
     for (int a = 0; a < 3; ++a)
@@ -1253,6 +1283,10 @@ solver::Discretization make_discretization(const Scene& s) {
 }
 
 std::unique_ptr<solver::Material> make_material(const Scene& s) {
+  if (s.material_model == "cauchy-born" && s.material_per_point)
+    return std::make_unique<body::PerPointCauchyBornMaterial>(
+        std::make_shared<const body::Body>(body::read_body(s.material_file)),
+        s.model_geometry->cloud.volume, s.material_file.string());
   if (s.material_model == "cauchy-born")
     return body::CauchyBornMaterial::from_file(s.material_file);
   const auto kin = s.dimension == 3      ? solver::Kinematics::three_d

@@ -98,6 +98,9 @@ struct Scene {
   /// file, resolved against the scene file's directory, and density defaults to Σ M_k / V₀).
   std::string material_model = "neo-hookean";
   std::filesystem::path material_file;
+  /// `material.per_point: true`: point p uses W_p of the model (body::PerPointCauchyBornMaterial);
+  /// needs geometry.shape: model on the same file.
+  bool material_per_point = false;
   std::vector<BoundaryCondition> boundary;
   int steps = 20;
   solver::NewtonOptions newton;
