@@ -13,6 +13,10 @@
 ///   material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
 ///   # or the Cauchy–Born material of a pdcg model file (docs/elastic.md §6):
 ///   # material: {model: cauchy-born, file: res.h5}   # path relative to the scene file
+///   # the points of a model file as the body (docs/solver.md §2.1), and a per-point material
+///   # (docs/elastic.md §7):
+///   # geometry: {shape: model, file: res.h5}
+///   # material: {model: cauchy-born, file: res.h5, per_point: true}
 ///   boundary:
 ///     - {name: left,  region: {x_max: 0.0},  displacement: {x: 0.0}}
 ///     - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}

@@ -23,6 +23,9 @@
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/cauchy_born_material.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/coarsen/homogenise.hpp"
+#include "pdcg/coarsen/kernels.hpp"
+#include "pdcg/core/error.hpp"
 #include "pdcg/scene/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -253,4 +256,82 @@ output: {{directory: out, every: 2}}
   EXPECT_LT(dR[0], 0.0);
   EXPECT_LT(dR[1], 0.0);
   EXPECT_GT(edges * tau, 0.0);
+}
+
+TEST(PerPointCauchyBorn, HomogenisedModelGeometryAndMaterial) {
+  // A homogenised model of the free strip (cubic B-spline, support 2Δ, grid step Δ = 2a): its
+  // points form a grid (lattice rule, spacing = the stored step, volumes V_p = Δ²), and the
+  // per-point material of the scene gives Σ_p V_p W_p(F) = the atomic energy under Y = Fξ
+  // (Σ_p w_kp = 1), 1e-10 relative (round-off of sums over 160 atoms).
+  fs::create_directories(kDir);
+  const body::Body strip = sheet(20, 8, false, false);
+  coarsen::GridOptions g;
+  g.spacing = 2 * kA;
+  const body::Body hom =
+      coarsen::homogenise_on_grid(strip, coarsen::make_kernel("cubic-bspline", 4 * kA), g);
+  body::write_body(hom, kDir / "hom.h5");
+  const fs::path yaml = kDir / "hom.yaml";
+  std::ofstream(yaml)
+      << "units: lj\ndimension: 2\nplane: strain\n"
+         "geometry: {shape: model, file: hom.h5}\n"
+         "material: {model: cauchy-born, file: hom.h5, per_point: true}\n"
+         "boundary:\n  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0}}\n";
+  const auto s = scene::load_scene(yaml);
+  ASSERT_TRUE(s.model_geometry);
+  const auto& c = s.model_geometry->cloud;
+  EXPECT_EQ(c.rule, solver::SurfaceRule::lattice);
+  EXPECT_NEAR(s.spacing(), 2 * kA, 1e-12);
+  ASSERT_EQ(c.volume.size(), hom.homogenisation->size());
+  for (std::size_t p = 0; p < c.volume.size(); ++p)
+    EXPECT_EQ(c.volume[p], hom.homogenisation->volume[p]);
+  const auto mat = scene::make_material(s);
+  body::Evaluator ev(hom);
+  const Eigen::Matrix3d F = in_plane(1.03, 0.05, -0.02, 0.96);
+  double sum = 0;
+  for (std::size_t p = 0; p < c.volume.size(); ++p) {
+    double psi = 0;
+    ASSERT_TRUE(mat->evaluate_at(static_cast<int>(p), F, &psi, nullptr, nullptr));
+    sum += c.volume[p] * psi;
+  }
+  const double ref = ev.homogeneous(F).energy;
+  std::printf(
+      "  homogenised strip (%zu points, %zu surface points): Σ V_p W_p = %.15g, atomic "
+      "energy %.15g\n",
+      c.volume.size(), c.surface_points, sum, ref);
+  EXPECT_NEAR(sum, ref, 1e-10 * std::abs(ref));
+}
+
+TEST(PerPointCauchyBorn, PerPointNeedsTheGeometrysModel) {
+  fs::create_directories(kDir);
+  body::write_body(sheet(6, 6, true, true), kDir / "bulk.h5");
+  body::write_body(sheet(10, 6, false, false), kDir / "strip_small.h5");
+  auto error_of = [&](const std::string& text) -> std::string {
+    std::ofstream(kDir / "bad.yaml") << text;
+    try {
+      scene::load_scene(kDir / "bad.yaml");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  const std::string head = "units: lj\ndimension: 2\nplane: strain\n";
+  const std::string bc =
+      "boundary:\n  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0}}\n";
+  std::string m =
+      error_of(head +
+               "geometry: {shape: rectangle, origin: [0, 0], size: [4, 4], spacing: 1}\n"
+               "material: {model: cauchy-born, file: bulk.h5, per_point: true}\n" +
+               bc);
+  EXPECT_NE(m.find("needs the model's own points"), std::string::npos) << m;
+  m = error_of(head +
+               "geometry: {shape: model, file: strip_small.h5}\n"
+               "material: {model: cauchy-born, file: bulk.h5, per_point: true}\n" +
+               bc);
+  EXPECT_NE(m.find("geometry's model file"), std::string::npos) << m;
+  m = error_of(head +
+               "geometry: {shape: model, file: strip_small.h5}\n"
+               "material: {model: neo-hookean, shear_modulus: 1, bulk_modulus: 2, "
+               "per_point: true}\n" +
+               bc);
+  EXPECT_NE(m.find("material.per_point"), std::string::npos) << m;
 }
