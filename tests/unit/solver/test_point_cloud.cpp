@@ -126,12 +126,12 @@ TEST(PointCloud, AffineFieldIsAnExactEquilibriumAwayFromTheSurface) {
   // Homogeneous patch test on clouds: u = (F − I)x with a general F (rotation, stretch, shear);
   // the weak-form force is f_k = P(F) s_k, so every point with s_k = 0 is in equilibrium to
   // round-off and the affine field solves the Dirichlet problem whose prescribed points are
-  // the surface points. Lattice rule (grid 2D, 3D) and Voronoi rule (perturbed 2D grid).
+  // the surface points. Lattice rule (grid 2D, 3D) and Voronoi rule (perturbed 2D and 3D grids).
   struct Case {
     int d;
     double jitter;
   };
-  for (const Case cs : {Case{2, 0.0}, Case{3, 0.0}, Case{2, 0.1}}) {
+  for (const Case cs : {Case{2, 0.0}, Case{3, 0.0}, Case{2, 0.1}, Case{3, 0.1}}) {
     GridSpec g;
     g.dimension = cs.d;
     g.spacing = cs.d == 2 ? 0.1 : 0.2;
@@ -141,6 +141,9 @@ TEST(PointCloud, AffineFieldIsAnExactEquilibriumAwayFromTheSurface) {
     const double h = g.spacing;
     const auto c = analyse_cloud(cs.d, src.positions(), {}, std::pow(h, cs.d), {});
     EXPECT_EQ(c.rule, cs.jitter > 0 ? SurfaceRule::voronoi : SurfaceRule::lattice);
+    Vec3 total = Vec3::Zero();
+    for (const auto& v : c.surface) total += v;
+    EXPECT_LT(total.norm(), 1e-13 * std::pow(h, cs.d - 1));  // Σ s_k = 0 (closed body)
     const auto D =
         Discretization::from_points(cs.d, src.positions(), c.volume, c.surface, c.spacing, {}, opt);
     auto mat = cs.d == 2 ? make_neo_hookean({1.0, 10.0}, Kinematics::plane_strain)
