@@ -243,6 +243,13 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
     double mass = 0;
     for (double v : b->mass) mass += v;
     s.density = mass / b->reference_volume();
+    // On the model's own points the body's volume is Σ V_p (a free model's box has vacuum).
+    if (s.model_geometry && std::filesystem::weakly_canonical(s.model_geometry->file) ==
+                                std::filesystem::weakly_canonical(f)) {
+      double vol = 0;
+      for (double v : s.model_geometry->cloud.volume) vol += v;
+      if (vol > 0) s.density = mass / vol;
+    }
   }
 }
 
