@@ -244,6 +244,15 @@ def shape_values(xi, eta):
                      4 * l0 * l1, 4 * l1 * l2, 4 * l2 * l0], axis=-1)
 
 
+def shape_grads(xi, eta):
+    """shape_derivs for arrays of points: (..., 6, 2)."""
+    l0, l1, l2 = 1 - xi - eta, xi, eta
+    z = np.zeros_like(xi)
+    dxi = np.stack([-(4 * l0 - 1), 4 * l1 - 1, z, 4 * (l0 - l1), 4 * l2, -4 * l2], axis=-1)
+    deta = np.stack([-(4 * l0 - 1), z, 4 * l2 - 1, -4 * l1, 4 * l1, 4 * (l0 - l2)], axis=-1)
+    return np.stack([dxi, deta], axis=-1)
+
+
 def locate(nodes, tris, pts, candidates=12, iterations=12):
     """Element and reference coordinates (xi, eta) of each point pts (n, 2) of the quarter
     [0.5,1]² minus the hole: the isoparametric P2 map x(ξ) = Σ N_a(ξ) X_a is inverted by
@@ -256,14 +265,17 @@ def locate(nodes, tris, pts, candidates=12, iterations=12):
     cen = nodes[tris[:, :3]].mean(axis=1)
     _, cand = cKDTree(cen).query(pts, k=min(candidates, len(tris)))
     cand = np.atleast_2d(cand)
+    if len(pts) > 2048:  # chunks: the (n, k, 6, 2) work arrays stay a few MB
+        parts = [locate(nodes, tris, pts[i:i + 2048], candidates, iterations)
+                 for i in range(0, len(pts), 2048)]
+        return tuple(np.concatenate([q[j] for q in parts]) for j in range(4))
     Xe = nodes[tris[cand]]  # (n, k, 6, 2)
     xi = np.full(cand.shape, 1.0 / 3.0)
     eta = np.full(cand.shape, 1.0 / 3.0)
     P = pts[:, None, :]
     for _ in range(iterations):
         N = shape_values(xi, eta)  # (n, k, 6)
-        dref = np.stack([shape_derivs(a, b) for a, b in zip(xi.ravel(), eta.ravel())])
-        dref = dref.reshape(*xi.shape, 6, 2)
+        dref = shape_grads(xi, eta)  # (n, k, 6, 2)
         x = np.einsum("nka,nkai->nki", N, Xe)
         J = np.einsum("nkai,nkaj->nkij", Xe, dref)  # dx_i/dξ_j
         r = P - x
