@@ -3,7 +3,7 @@
 # docs/accuracy-cost.md.
 #   workflows/accuracy/run.sh [OUT=build/accuracy]   (item 1: see docs/accuracy-cost.md §1 for the
 #     measured time, dominated by the dx = 1/160 runs; --spacings 0.05 0.025 0.0125 for minutes;
-#     item 4: ~10 min; --parts plate or --parts nonlinear for one item)
+#     item 4: ≈ 6 min at load 15, the sum of the §4 run times; --parts plate | nonlinear for one)
 #   SMOKE=1 workflows/accuracy/run.sh OUT               (seconds; what ctest runs)
 # Extra arguments after OUT go to accuracy.py (e.g. --spacings 0.05 0.025 --parts plate).
 # Needs python3-numpy, python3-scipy (FEM curve), python3-h5py (pdcg fields), python3-matplotlib
