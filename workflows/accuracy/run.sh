@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Accuracy against cost (issue 9 §1 items 1 and 4): one command, CSV + PNG per item, summary in
 # docs/accuracy-cost.md.
-#   workflows/accuracy/run.sh [OUT=build/accuracy]   (~33 min measured at load 15-20 on the shared
-#     2-core machine, 10 of them the three dx = 0.0125 runs; --spacings 0.05 0.025 for < 15 min)
+#   workflows/accuracy/run.sh [OUT=build/accuracy]   (item 1: see docs/accuracy-cost.md §1 for the
+#     measured time, dominated by the dx = 1/160 runs; --spacings 0.05 0.025 0.0125 for minutes;
+#     item 4: ≈ 6 min at load 15, the sum of the §4 run times; --parts plate | nonlinear for one)
 #   SMOKE=1 workflows/accuracy/run.sh OUT               (seconds; what ctest runs)
 # Extra arguments after OUT go to accuracy.py (e.g. --spacings 0.05 0.025 --parts plate).
-# Needs python3-numpy, python3-scipy (FEM curve), python3-matplotlib (Debian 12).
+# Needs python3-numpy, python3-scipy (FEM curve), python3-h5py (pdcg fields), python3-matplotlib
+# (Debian 12).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/../lib/setup.sh"

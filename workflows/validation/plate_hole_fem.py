@@ -175,7 +175,10 @@ class Model:
         return r, K
 
 
-def solve(nt, nr, log=print):
+def solve(nt, nr, log=print, field=False):
+    """Newton over STEPS load steps to D_FINAL. Returns (reactions (d, R) per step, elements,
+    dofs), and with field=True also (nodes, tris, u) of the quarter model at the last step
+    (u: 2·nodes, interleaved x, y) for evaluate()."""
     nodes, tris = mesh(nt, nr)
     m = Model(nodes, tris)
     tol = 1e-9
@@ -229,7 +232,85 @@ def solve(nt, nr, log=print):
     area = 4 * m.area
     log(f"  mesh nt={nt} nr={nr}: {len(tris)} P2 triangles (quarter), {m.ndof} dofs, "
         f"area check {area:.10f} vs {L*L-np.pi*R*R:.10f}, {time.time()-t0:.1f} s")
+    if field:
+        return np.array(out), len(tris), m.ndof, (nodes, tris, u)
     return np.array(out), len(tris), m.ndof
+
+
+def shape_values(xi, eta):
+    """P2 shape functions N0..N5 (vertices, then mid 01, 12, 20) at (xi, eta), (..., 6)."""
+    l0, l1, l2 = 1 - xi - eta, xi, eta
+    return np.stack([l0 * (2 * l0 - 1), l1 * (2 * l1 - 1), l2 * (2 * l2 - 1),
+                     4 * l0 * l1, 4 * l1 * l2, 4 * l2 * l0], axis=-1)
+
+
+def shape_grads(xi, eta):
+    """shape_derivs for arrays of points: (..., 6, 2)."""
+    l0, l1, l2 = 1 - xi - eta, xi, eta
+    z = np.zeros_like(xi)
+    dxi = np.stack([-(4 * l0 - 1), 4 * l1 - 1, z, 4 * (l0 - l1), 4 * l2, -4 * l2], axis=-1)
+    deta = np.stack([-(4 * l0 - 1), z, 4 * l2 - 1, -4 * l1, 4 * l1, 4 * (l0 - l2)], axis=-1)
+    return np.stack([dxi, deta], axis=-1)
+
+
+def locate(nodes, tris, pts, candidates=12, iterations=12):
+    """Element and reference coordinates (xi, eta) of each point pts (n, 2) of the quarter
+    [0.5,1]² minus the hole: the isoparametric P2 map x(ξ) = Σ N_a(ξ) X_a is inverted by
+    Newton in each of the `candidates` elements with the nearest centroids, and the element
+    whose smallest barycentric coordinate is largest is taken (inside: ≥ 0; a point in the
+    sliver between the circle and an element's parabolic hole edge, or round-off, gets the
+    nearest element's polynomial, i.e. a short extrapolation). Returns (element (n,),
+    xi (n,), eta (n,), smallest barycentric coordinate (n,))."""
+    from scipy.spatial import cKDTree
+    cen = nodes[tris[:, :3]].mean(axis=1)
+    _, cand = cKDTree(cen).query(pts, k=min(candidates, len(tris)))
+    cand = np.atleast_2d(cand)
+    if len(pts) > 2048:  # chunks: the (n, k, 6, 2) work arrays stay a few MB
+        parts = [locate(nodes, tris, pts[i:i + 2048], candidates, iterations)
+                 for i in range(0, len(pts), 2048)]
+        return tuple(np.concatenate([q[j] for q in parts]) for j in range(4))
+    Xe = nodes[tris[cand]]  # (n, k, 6, 2)
+    xi = np.full(cand.shape, 1.0 / 3.0)
+    eta = np.full(cand.shape, 1.0 / 3.0)
+    P = pts[:, None, :]
+    for _ in range(iterations):
+        N = shape_values(xi, eta)  # (n, k, 6)
+        dref = shape_grads(xi, eta)  # (n, k, 6, 2)
+        x = np.einsum("nka,nkai->nki", N, Xe)
+        J = np.einsum("nkai,nkaj->nkij", Xe, dref)  # dx_i/dξ_j
+        r = P - x
+        det = J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
+        dxi = (J[..., 1, 1] * r[..., 0] - J[..., 0, 1] * r[..., 1]) / det
+        deta = (-J[..., 1, 0] * r[..., 0] + J[..., 0, 0] * r[..., 1]) / det
+        # keep the iterate near the element: a far-away candidate must not overflow
+        xi = np.clip(xi + dxi, -2.0, 3.0)
+        eta = np.clip(eta + deta, -2.0, 3.0)
+    lam = np.minimum(np.minimum(xi, eta), 1 - xi - eta)
+    best = np.argmax(lam, axis=1)
+    n = np.arange(len(pts))
+    return cand[n, best], xi[n, best], eta[n, best], lam[n, best]
+
+
+def evaluate(nodes, tris, u, pts, d):
+    """FEM displacement of the FULL plate at points pts (n, 2) of [0,1]² minus the hole, from
+    the quarter solution (u interleaved x, y) by the symmetries of the quarter model:
+    u_x(1 − x, y) = d − u_x(x, y), u_y(1 − x, y) = u_y(x, y) (antisymmetry of u_x − d/2 about
+    x = 0.5) and u_x(x, 1 − y) = u_x(x, y), u_y(x, 1 − y) = −u_y(x, y) (mirror about y = 0.5);
+    inside the containing element by its P2 shape functions. The field has u_y = 0 on
+    y = 0.5 (the symmetric gauge; the full plate's pin at (0, 0) differs from it by a rigid
+    translation in y). Returns (u (n, 2), smallest barycentric coordinate (n,))."""
+    pts = np.asarray(pts, dtype=float)
+    sx = pts[:, 0] < CX
+    sy = pts[:, 1] < CY
+    q = np.stack([np.where(sx, 2 * CX - pts[:, 0], pts[:, 0]),
+                  np.where(sy, 2 * CY - pts[:, 1], pts[:, 1])], axis=1)
+    e, xi, eta, lam = locate(nodes, tris, q)
+    N = shape_values(xi, eta)  # (n, 6)
+    ue = u.reshape(-1, 2)[tris[e]]  # (n, 6, 2)
+    v = np.einsum("na,nai->ni", N, ue)
+    v[:, 0] = np.where(sx, d - v[:, 0], v[:, 0])
+    v[:, 1] = np.where(sy, -v[:, 1], v[:, 1])
+    return v, lam
 
 
 def main():
