@@ -554,11 +554,11 @@ class PairModel final : public Potential {
       const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
       const auto* row = table_.v.data() + h.type[k] * n1;
       double fx = 0.0, fy = 0.0, fz = 0.0, e = 0.0;
-      for (std::int64_t b = h.offset[k]; b < h.offset[k + 1]; ++b) {
-        const std::int64_t j = h.neighbor[b];
-        const double* sh = h.shift + 3 * b;
-        const double dx = y[3 * j] - xk + sh[0], dy = y[3 * j + 1] - yk + sh[1],
-                     dz = y[3 * j + 2] - zk + sh[2];
+      const std::int32_t* nb = h.neighbor;
+      for (std::int64_t b = h.offset[k], b1 = h.offset[k + 1]; b < b1; ++b) {
+        const std::int64_t j = nb[b];
+        const double* yj = y + 3 * j;
+        const double dx = yj[0] - xk, dy = yj[1] - yk, dz = yj[2] - zk;
         const double rsq = dx * dx + dy * dy + dz * dz;
         const auto& c = kSingleType ? c1 : row[h.type[j]];
         const double factor = kFactor ? h.factor[b] : 1.0;
@@ -567,12 +567,14 @@ class PairModel final : public Potential {
           Law::eval(c, rsq, ep, fpair);
           const double s = kFactor ? -factor * fpair : -fpair;  // φ'(r)/r
           e += kFactor ? factor * ep : ep;
-          fx += s * dx;
-          fy += s * dy;
-          fz += s * dz;
-          f[3 * j] -= s * dx;
-          f[3 * j + 1] -= s * dy;
-          f[3 * j + 2] -= s * dz;
+          const double sx = s * dx, sy = s * dy, sz = s * dz;
+          fx += sx;
+          fy += sy;
+          fz += sz;
+          double* fj = f + 3 * j;
+          fj[0] -= sx;
+          fj[1] -= sy;
+          fj[2] -= sz;
         }
       }
       f[3 * k] += fx;
