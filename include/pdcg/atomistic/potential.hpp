@@ -93,6 +93,7 @@ struct HalfFamilies {
   const std::int32_t* neighbor = nullptr;  ///< per half bond: index into points and ghosts
   const int* type = nullptr;               ///< atom types (1-based) of points and ghosts
   const double* factor = nullptr;  ///< per half bond special_bonds factor; nullptr = all 1
+  bool energy = true;  ///< false: forces only (LAMMPS's eflag = 0), the kernel returns 0
 };
 
 class Potential {

@@ -76,7 +76,9 @@ class VelocityVerlet {
   /// y0, v0: 3N positions (unwrapped, body order) and velocities. dt > 0.
   VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt);
 
-  void step();
+  /// One step. energy = false lets the pair kernel skip Σφ (LAMMPS evaluates energies only
+  /// on thermo steps, eflag); thermo() then computes the potential energy on demand.
+  void step(bool energy = true);
   void run(std::int64_t steps) {
     for (std::int64_t s = 0; s < steps; ++s) step();
   }
@@ -88,8 +90,9 @@ class VelocityVerlet {
   std::span<const double> forces() const { return {f_.data(), v_.size()}; }
 
  private:
-  void evaluate();
-  void evaluate_pairwise();
+  void evaluate(bool energy = true);
+  void evaluate_pairwise(bool energy);
+  double pair_energy() const;
   void evaluate_eam();
   void setup_half();
   void update_ghosts();
@@ -109,7 +112,8 @@ class VelocityVerlet {
   std::vector<std::int32_t> ghost_atom_;
   std::vector<double> ghost_shift_;  ///< 3 per ghost: H·n
   std::vector<int> type_ext_;        ///< types of points and ghosts
-  std::vector<std::vector<double>> thread_f_, thread_y_, thread_t_;
+  mutable std::vector<std::vector<double>> thread_f_;  ///< mutable: scratch of pair_energy()
+  std::vector<std::vector<double>> thread_y_, thread_t_;
   /// Native EAM without molecular bonds (Potential::eam_view): the LAMMPS scheme over the half
   /// families, ρ̄ pass (scattered to both ends), F'(ρ̄) pass, force pass
   /// f_k += s Y, f_j −= s Y, s = (F'_k ρ'_{j→k} + F'_j ρ'_{k→j} + φ')/r; no per-bond storage.
@@ -119,6 +123,7 @@ class VelocityVerlet {
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;
+  bool potential_current_ = true;  ///< false after a forces-only step of the pair kernel
   std::int64_t step_ = 0;
 };
 
