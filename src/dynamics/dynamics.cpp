@@ -674,8 +674,8 @@ double VelocityVerlet::pair_energy() const {
   h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
   auto& scratch = thread_f_[0];
   std::fill(scratch.begin(), scratch.end(), 0.0);
-  return body_.potential->half_pair_forces(h, 0, static_cast<std::int64_t>(body_.size()),
-                                           y_.data(), scratch.data());
+  return body_.potential->half_pair_forces(h, 0, static_cast<std::int64_t>(body_.size()), y_.data(),
+                                           scratch.data());
 }
 
 void VelocityVerlet::evaluate(bool energy) {
