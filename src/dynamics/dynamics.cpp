@@ -444,9 +444,20 @@ void VelocityVerlet::update_ghosts() {
 /// point can have several ghosts; each thread folds its own copy).
 void VelocityVerlet::fold_ghosts(double* f, size_t stride) const {
   const double* fg = f + stride * body_.size();
-  for (size_t g = 0; g < ghost_atom_.size(); ++g)
+  const std::int32_t* a = ghost_atom_.data();
+  const size_t ng = ghost_atom_.size();
+  if (stride == 3) {
+    for (size_t g = 0; g < ng; ++g) {
+      double* fa = f + 3 * static_cast<size_t>(a[g]);
+      fa[0] += fg[3 * g];
+      fa[1] += fg[3 * g + 1];
+      fa[2] += fg[3 * g + 2];
+    }
+    return;
+  }
+  for (size_t g = 0; g < ng; ++g)
     for (size_t c = 0; c < stride; ++c)
-      f[stride * static_cast<size_t>(ghost_atom_[g]) + c] += fg[stride * g + c];
+      f[stride * static_cast<size_t>(a[g]) + c] += fg[stride * g + c];
 }
 
 void VelocityVerlet::evaluate_eam() {
