@@ -80,8 +80,9 @@ int run(const Options& o) {
   const auto t0 = vv.thermo();
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t s = 1; s <= o.steps; ++s) {
-    vv.step();
-    if (thermo && s % o.thermo_every == 0) write_thermo();
+    const bool report = thermo && s % o.thermo_every == 0;
+    vv.step(report);  // energies only on thermo steps, as LAMMPS
+    if (report) write_thermo();
     if (dump && s % o.every == 0) dump->write(b, s, vv.positions(), vv.velocities());
     if (!std::isfinite(vv.positions()[0]))
       throw NumericalError(fmt::format("positions are not finite at step {}: the time step {} is too large (stable limit {:.6g})",

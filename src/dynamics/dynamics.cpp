@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <unordered_map>
 
 #include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/core/error.hpp"
@@ -371,34 +373,91 @@ void VelocityVerlet::setup_half() {
   const auto& fam = body_.families;
   const size_t n = body_.size();
   half_offset_.assign(n + 1, 0);
+  type_ext_.assign(body_.type.begin(), body_.type.end());
+  // one ghost per distinct (point, image n): key j·2^32 + packed n (10 bits per component)
+  std::unordered_map<std::uint64_t, std::int32_t> ghost_of;
   std::int64_t widest = 0;
   for (size_t k = 0; k < n; ++k) {
     for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
       const auto ub = static_cast<size_t>(b);
       const auto j = static_cast<size_t>(fam.neighbor[ub]);
       if (!(j > k || (j == k && fam.reverse[ub] > b))) continue;  // the other half holds it
-      half_neighbor_.push_back(fam.neighbor[ub]);
+      const int* img = fam.shift.data() + 3 * ub;
+      std::int32_t target = fam.neighbor[ub];
+      if (img[0] != 0 || img[1] != 0 || img[2] != 0) {
+        std::uint64_t key = static_cast<std::uint64_t>(j) << 32;
+        for (int a = 0; a < 3; ++a) {
+          if (img[a] < -511 || img[a] > 511)
+            throw std::logic_error("setup_half: periodic image beyond ±511 boxes");
+          key |= static_cast<std::uint64_t>(img[a] + 512) << (10 * a);
+        }
+        const auto [it, added] =
+            ghost_of.emplace(key, static_cast<std::int32_t>(n + ghost_atom_.size()));
+        if (added) {
+          const Eigen::Vector3d s = fam.h * Eigen::Vector3d(img[0], img[1], img[2]);
+          ghost_atom_.push_back(fam.neighbor[ub]);
+          ghost_shift_.insert(ghost_shift_.end(), {s[0], s[1], s[2]});
+          type_ext_.push_back(body_.type[j]);
+        }
+        target = it->second;
+      }
+      half_neighbor_.push_back(target);
       half_type_.push_back(body_.type[j]);
-      const Eigen::Vector3d s =
-          fam.h * Eigen::Vector3d(fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]);
-      half_shift_.insert(half_shift_.end(), {s[0], s[1], s[2]});
       if (!fam.pair_factor.empty()) half_factor_.push_back(fam.pair_factor[ub]);
       if (!fam.bond_type.empty()) half_bond_type_.push_back(fam.bond_type[ub]);
     }
     half_offset_[k + 1] = static_cast<std::int64_t>(half_neighbor_.size());
     widest = std::max(widest, half_offset_[k + 1] - half_offset_[k]);
   }
+  if (n + ghost_atom_.size() > static_cast<size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw std::length_error("setup_half: more than 2^31 points and ghosts");
+  const size_t next = n + ghost_atom_.size();
+  y_.resize(3 * next);
+  f_.resize(3 * next);
+  update_ghosts();
   const int threads = omp_get_max_threads();
-  thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * n));
+  thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * next));
   thread_y_.assign(static_cast<size_t>(threads),
                    std::vector<double>(3 * static_cast<size_t>(widest) + 3));
   thread_t_.assign(static_cast<size_t>(threads),
                    std::vector<double>(3 * static_cast<size_t>(widest) + 3));
   if (eam_) {
-    thread_rho_.assign(static_cast<size_t>(threads), std::vector<double>(n));
-    rho_.assign(n, 0.0);
-    fp_.assign(n, 0.0);
+    thread_rho_.assign(static_cast<size_t>(threads), std::vector<double>(next));
+    rho_.assign(next, 0.0);
+    fp_.assign(next, 0.0);
   }
+}
+
+/// Ghost positions y_g = y_a + H·n (called inside or outside a parallel region).
+void VelocityVerlet::update_ghosts() {
+  const std::int64_t ng = static_cast<std::int64_t>(ghost_atom_.size());
+  double* y = y_.data();
+  double* yg = y + 3 * body_.size();
+  const std::int32_t* a = ghost_atom_.data();
+  const double* s = ghost_shift_.data();
+#pragma omp for schedule(static)
+  for (std::int64_t g = 0; g < ng; ++g)
+    for (int c = 0; c < 3; ++c) yg[3 * g + c] = y[3 * a[g] + c] + s[3 * g + c];
+}
+
+/// Adds the ghost entries of one array (stride values per point) to their points (serial: a
+/// point can have several ghosts; each thread folds its own copy).
+void VelocityVerlet::fold_ghosts(double* f, size_t stride) const {
+  const double* fg = f + stride * body_.size();
+  const std::int32_t* a = ghost_atom_.data();
+  const size_t ng = ghost_atom_.size();
+  if (stride == 3) {
+    for (size_t g = 0; g < ng; ++g) {
+      double* fa = f + 3 * static_cast<size_t>(a[g]);
+      fa[0] += fg[3 * g];
+      fa[1] += fg[3 * g + 1];
+      fa[2] += fg[3 * g + 2];
+    }
+    return;
+  }
+  for (size_t g = 0; g < ng; ++g)
+    for (size_t c = 0; c < stride; ++c)
+      f[stride * static_cast<size_t>(a[g]) + c] += fg[stride * g + c];
 }
 
 void VelocityVerlet::evaluate_eam() {
@@ -416,7 +475,8 @@ void VelocityVerlet::evaluate_eam() {
   const std::int64_t* off = half_offset_.data();
   const std::int32_t* nb = half_neighbor_.data();
   const int* nbt = half_type_.data();
-  const double* sh = half_shift_.data();
+  const std::int64_t next = n + static_cast<std::int64_t>(ghost_atom_.size());
+  const std::int32_t* ga = ghost_atom_.data();
   const double* fac = half_factor_.empty() ? nullptr : half_factor_.data();
   double* rho = rho_.data();
   double* fp = fp_.data();
@@ -427,10 +487,11 @@ void VelocityVerlet::evaluate_eam() {
     const int used = omp_get_num_threads();  // 1 when the `if` clause keeps it serial
     double* trho = used == 1 ? rho : thread_rho_[tid].data();
     double* f = used == 1 ? f_.data() : thread_f_[tid].data();
-    std::fill(trho, trho + n, 0.0);
-    std::fill(f, f + 3 * n, 0.0);
+    update_ghosts();
+    std::fill(trho, trho + next, 0.0);
+    std::fill(f, f + 3 * next, 0.0);
     // pass 1: ρ̄ (PairEAM::compute, density of j at k and of k at j from one distance)
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (std::int64_t k = 0; k < n; ++k) {
       const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
       const int kt = type[k];
@@ -438,8 +499,7 @@ void VelocityVerlet::evaluate_eam() {
       for (std::int64_t b = off[k]; b < off[k + 1]; ++b) {
         if (fac && fac[b] == 0.0) continue;  // LAMMPS excludes these pairs
         const std::int64_t j = nb[b];
-        const double dx = y[3 * j] - xk + sh[3 * b], dy = y[3 * j + 1] - yk + sh[3 * b + 1],
-                     dz = y[3 * j + 2] - zk + sh[3 * b + 2];
+        const double dx = y[3 * j] - xk, dy = y[3 * j + 1] - yk, dz = y[3 * j + 2] - zk;
         const double rsq = dx * dx + dy * dy + dz * dz;
         if (rsq < cutsq) {
           const int jt = nbt[b];
@@ -456,6 +516,8 @@ void VelocityVerlet::evaluate_eam() {
       }
       trho[k] += rk;
     }
+    fold_ghosts(trho, 1);  // this thread's copy
+#pragma omp barrier
     // pass 2: ρ̄ summed over the thread copies, F(ρ̄) and F'(ρ̄) (linear beyond ρ_max)
 #pragma omp for schedule(static)
     for (std::int64_t k = 0; k < n; ++k) {
@@ -471,8 +533,13 @@ void VelocityVerlet::evaluate_eam() {
       fp[k] = emb.first;
       energy += emb.value;
     }
-    // pass 3: pair forces and energies
+    // F' of the ghosts (LAMMPS's forward communication of fp)
 #pragma omp for schedule(static)
+    for (std::int64_t g = n; g < next; ++g) {
+      fp[g] = fp[ga[g - n]];
+    }
+    // pass 3: pair forces and energies
+#pragma omp for schedule(static) nowait
     for (std::int64_t k = 0; k < n; ++k) {
       const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
       const int kt = type[k];
@@ -481,8 +548,7 @@ void VelocityVerlet::evaluate_eam() {
       for (std::int64_t b = off[k]; b < off[k + 1]; ++b) {
         if (fac && fac[b] == 0.0) continue;
         const std::int64_t j = nb[b];
-        const double dx = y[3 * j] - xk + sh[3 * b], dy = y[3 * j + 1] - yk + sh[3 * b + 1],
-                     dz = y[3 * j + 2] - zk + sh[3 * b + 2];
+        const double dx = y[3 * j] - xk, dy = y[3 * j + 1] - yk, dz = y[3 * j + 2] - zk;
         const double rsq = dx * dx + dy * dy + dz * dz;
         if (rsq < cutsq) {
           const int jt = nbt[b];
@@ -517,7 +583,9 @@ void VelocityVerlet::evaluate_eam() {
       f[3 * k + 2] += fz;
       energy += e;
     }
+    fold_ghosts(f, 3);  // this thread's copy
     if (used > 1) {
+#pragma omp barrier
 #pragma omp for schedule(static)
       for (std::int64_t i = 0; i < 3 * n; ++i) {
         double s = 0.0;
@@ -530,19 +598,20 @@ void VelocityVerlet::evaluate_eam() {
   potential_ = energy;
 }
 
-void VelocityVerlet::evaluate_pairwise() {
+void VelocityVerlet::evaluate_pairwise(bool with_energy) {
   const std::int64_t n = static_cast<std::int64_t>(body_.size());
   const auto& pot = *body_.potential;
   const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
   double energy = 0.0;
+  const std::int64_t next = n + static_cast<std::int64_t>(ghost_atom_.size());
   const double* y = y_.data();
   const bool kernel = pot.has_pair_kernel();
   atomistic::HalfFamilies h;
   h.offset = half_offset_.data();
   h.neighbor = half_neighbor_.data();
-  h.type = body_.type.data();
-  h.shift = half_shift_.data();
+  h.type = type_ext_.data();
   h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
+  h.energy = with_energy || !kernel;
 #pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
   {
     const auto tid = static_cast<size_t>(omp_get_thread_num());
@@ -550,7 +619,8 @@ void VelocityVerlet::evaluate_pairwise() {
     double* f = used == 1 ? f_.data() : thread_f_[tid].data();
     double* Y = thread_y_[tid].data();
     double* t = thread_t_[tid].data();
-    std::fill(f, f + 3 * n, 0.0);
+    update_ghosts();
+    std::fill(f, f + 3 * next, 0.0);
     if (kernel) {
       // the potential's inlined pair loop over this thread's static block of points
       const std::int64_t k0 = n * static_cast<std::int64_t>(tid) / used;
@@ -566,8 +636,7 @@ void VelocityVerlet::evaluate_pairwise() {
         for (std::int64_t q = 0; q < m; ++q) {
           const auto b = static_cast<size_t>(b0 + q);
           const double* yj = y + 3 * static_cast<std::int64_t>(half_neighbor_[b]);
-          for (int a = 0; a < 3; ++a)
-            Y[3 * q + a] = yj[a] - yk[a] + half_shift_[3 * b + static_cast<size_t>(a)];
+          for (int a = 0; a < 3; ++a) Y[3 * q + a] = yj[a] - yk[a];
         }
         atomistic::FamilyState st;
         st.type = body_.type[static_cast<size_t>(k)];
@@ -589,6 +658,7 @@ void VelocityVerlet::evaluate_pairwise() {
         for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
       }
     }
+    fold_ghosts(f, 3);  // this thread's copy
     // reduce the thread copies (each thread a slice of the dofs)
     if (used > 1) {
 #pragma omp barrier
@@ -602,15 +672,31 @@ void VelocityVerlet::evaluate_pairwise() {
     }
   }
   potential_ = energy;
+  potential_current_ = h.energy;
 }
 
-void VelocityVerlet::evaluate() {
+/// Σφ at the current positions through the pair kernel (serial, forces into scratch), for
+/// thermo() after a forces-only step.
+double VelocityVerlet::pair_energy() const {
+  atomistic::HalfFamilies h;
+  h.offset = half_offset_.data();
+  h.neighbor = half_neighbor_.data();
+  h.type = type_ext_.data();
+  h.factor = half_factor_.empty() ? nullptr : half_factor_.data();
+  auto& scratch = thread_f_[0];
+  std::fill(scratch.begin(), scratch.end(), 0.0);
+  return body_.potential->half_pair_forces(h, 0, static_cast<std::int64_t>(body_.size()), y_.data(),
+                                           scratch.data());
+}
+
+void VelocityVerlet::evaluate(bool energy) {
+  potential_current_ = true;
   if (eam_) {
-    evaluate_eam();
+    evaluate_eam();  // F(ρ̄) and φ are needed for the forces anyway
     return;
   }
   if (half_) {
-    evaluate_pairwise();
+    evaluate_pairwise(energy);
     return;
   }
   const auto e = ev_.deformed(y_);
@@ -618,7 +704,7 @@ void VelocityVerlet::evaluate() {
   std::copy(e.forces.begin(), e.forces.end(), f_.begin());
 }
 
-void VelocityVerlet::step() {
+void VelocityVerlet::step(bool energy) {
   const std::int64_t n = static_cast<std::int64_t>(body_.size());
   const double dtf = 0.5 * dt_ * ftm2v_, dtv = dt_;
   double* y = y_.data();
@@ -634,7 +720,7 @@ void VelocityVerlet::step() {
     }
   }
   // forces at the new positions (no allocation after the first call)
-  evaluate();
+  evaluate(energy);
   const double* fn = f_.data();
 #pragma omp parallel for schedule(static) if (n > 2048)
   for (std::int64_t k = 0; k < n; ++k) {
@@ -656,7 +742,7 @@ Thermo VelocityVerlet::thermo() const {
     ke2 += body_.mass[static_cast<size_t>(k)] * (vk[0] * vk[0] + vk[1] * vk[1] + vk[2] * vk[2]);
   }
   t.kinetic = 0.5 * mvv2e_ * ke2;
-  t.potential = potential_;
+  t.potential = potential_current_ ? potential_ : pair_energy();
   t.total = t.kinetic + t.potential;
   const double dof =
       std::clamp(body_.dimension, 1, 3) * static_cast<double>(std::max<std::int64_t>(n - 1, 1));

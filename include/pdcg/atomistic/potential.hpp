@@ -84,12 +84,16 @@ struct EamView {
 
 /// Half families (each pair once: bonds k→j with j > k, or one of the two bonds of a self
 /// image) in CSR form, for pair kernels that scatter to both ends. Borrowed pointers.
+/// Periodic images are ghost points (as LAMMPS's ghost atoms): the position and force arrays
+/// hold the N points followed by ghost copies y_g = y_a + H·n of the points their half bonds
+/// reach through a periodic image, so Y = y_j − y_k with no per-bond shift; the caller fills
+/// the ghost positions before and adds the ghost forces to their points after the kernel.
 struct HalfFamilies {
   const std::int64_t* offset = nullptr;  ///< N+1
-  const std::int32_t* neighbor = nullptr;
-  const int* type = nullptr;       ///< N atom types (1-based)
-  const double* shift = nullptr;   ///< 3 per half bond: image shift H·n added to y_j − y_k
+  const std::int32_t* neighbor = nullptr;  ///< per half bond: index into points and ghosts
+  const int* type = nullptr;               ///< atom types (1-based) of points and ghosts
   const double* factor = nullptr;  ///< per half bond special_bonds factor; nullptr = all 1
+  bool energy = true;  ///< false: forces only (LAMMPS's eflag = 0), the kernel returns 0
 };
 
 class Potential {
@@ -112,8 +116,8 @@ class Potential {
   virtual const EamView* eam_view() const { return nullptr; }
   /// True when half_pair_forces is available (native pair styles without molecular bonds).
   virtual bool has_pair_kernel() const { return false; }
-  /// Pair forces of the half families of points k0 ≤ k < k1 at positions y (3N), added into
-  /// f (3N): per pair, with Y = y_j − y_k + shift and s the special factor,
+  /// Pair forces of the half families of points k0 ≤ k < k1 at positions y (3(N + ghosts)),
+  /// added into f (3(N + ghosts)): per pair, with Y = y_j − y_k and s the special factor,
   /// f_k += s φ'(r)/r Y, f_j −= s φ'(r)/r Y; returns Σ s φ(r). Same operations as
   /// force_state (LAMMPS's pair formulas), inlined per pair. Allocates nothing; thread-safe
   /// for disjoint f. Only valid when has_pair_kernel() (std::logic_error otherwise).

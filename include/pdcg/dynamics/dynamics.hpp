@@ -76,22 +76,27 @@ class VelocityVerlet {
   /// y0, v0: 3N positions (unwrapped, body order) and velocities. dt > 0.
   VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt);
 
-  void step();
+  /// One step. energy = false lets the pair kernel skip Σφ (LAMMPS evaluates energies only
+  /// on thermo steps, eflag); thermo() then computes the potential energy on demand.
+  void step(bool energy = true);
   void run(std::int64_t steps) {
     for (std::int64_t s = 0; s < steps; ++s) step();
   }
   Thermo thermo() const;
   std::int64_t steps_done() const { return step_; }
   double time_step() const { return dt_; }
-  std::span<const double> positions() const { return y_; }
+  std::span<const double> positions() const { return {y_.data(), v_.size()}; }
   std::span<const double> velocities() const { return v_; }
-  std::span<const double> forces() const { return f_; }
+  std::span<const double> forces() const { return {f_.data(), v_.size()}; }
 
  private:
-  void evaluate();
-  void evaluate_pairwise();
+  void evaluate(bool energy = true);
+  void evaluate_pairwise(bool energy);
+  double pair_energy() const;
   void evaluate_eam();
   void setup_half();
+  void update_ghosts();
+  void fold_ghosts(double* f, std::size_t stride) const;
   const body::Body& body_;
   /// Pairwise potentials (ψ_k = ½Σφ, t_jk(−Y) = −t_kj(Y)): each pair once through a half
   /// family (f_k += 2t_kj, f_j −= 2t_kj, energy 2ψ_half) instead of both bonds and a gather.
@@ -99,8 +104,16 @@ class VelocityVerlet {
   std::vector<std::int64_t> half_offset_;
   std::vector<std::int32_t> half_neighbor_;
   std::vector<int> half_type_, half_bond_type_;
-  std::vector<double> half_shift_, half_factor_;  ///< H n_b per half bond; pair factors
-  std::vector<std::vector<double>> thread_f_, thread_y_, thread_t_;
+  std::vector<double> half_factor_;  ///< pair factors per half bond (empty: all 1)
+  /// Ghost points (LAMMPS's ghost atoms): periodic images y_a + H·n reached by half bonds,
+  /// stored after the N points in y_ and f_ (half_neighbor_ indexes both), refreshed before
+  /// each evaluation; their forces are added to their points after it. Replaces a 3-double
+  /// image shift per half bond by one ghost per distinct (point, image).
+  std::vector<std::int32_t> ghost_atom_;
+  std::vector<double> ghost_shift_;  ///< 3 per ghost: H·n
+  std::vector<int> type_ext_;        ///< types of points and ghosts
+  mutable std::vector<std::vector<double>> thread_f_;  ///< mutable: scratch of pair_energy()
+  std::vector<std::vector<double>> thread_y_, thread_t_;
   /// Native EAM without molecular bonds (Potential::eam_view): the LAMMPS scheme over the half
   /// families, ρ̄ pass (scattered to both ends), F'(ρ̄) pass, force pass
   /// f_k += s Y, f_j −= s Y, s = (F'_k ρ'_{j→k} + F'_j ρ'_{k→j} + φ')/r; no per-bond storage.
@@ -110,6 +123,7 @@ class VelocityVerlet {
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;
+  bool potential_current_ = true;  ///< false after a forces-only step of the pair kernel
   std::int64_t step_ = 0;
 };
 

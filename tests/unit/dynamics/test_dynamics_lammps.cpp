@@ -296,6 +296,15 @@ TEST(DynamicsPairKernel, SameForcesAsEvaluator) {
     // same formulas, summation order differs: round-off (1e-13 relative)
     EXPECT_LT(ef, 1e-13);
     EXPECT_LT(ee, 1e-13);
+    // a forces-only step (no Σφ in the kernel) moves the same way; thermo() computes the
+    // potential energy on demand (serially: per-thread partial sums differ in order only)
+    dynamics::VelocityVerlet with(b, y, {}, 0.001), without(b, y, {}, 0.001);
+    with.step(true);
+    without.step(false);
+    for (size_t i = 0; i < 3 * b.size(); ++i)
+      ASSERT_EQ(with.positions()[i], without.positions()[i]);
+    const double pw = with.thermo().potential;
+    EXPECT_LT(std::abs(without.thermo().potential - pw), 1e-14 * std::abs(pw));
   }
   omp_set_num_threads(saved);
 }
