@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
@@ -60,6 +61,9 @@ ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> 
 }
 
 void ExplicitSolver::restore(const State& s) {
+  if (s.dt > 0) dt_ = s.dt;
+  if (s.crit > 0) crit_ = s.crit;
+  n_steps_ = s.steps;
   u_ = s.u;
   v_ = s.v;
   a_ = s.a;
@@ -108,17 +112,98 @@ double ExplicitSolver::critical_time_step(const Eigen::VectorXd& u) const {
   return 2.0 / std::sqrt(wmax2);
 }
 
+double ExplicitSolver::critical_time_step_local(const Eigen::VectorXd& u,
+                                                const std::vector<int>& points) const {
+  std::vector<double> sums;
+  if (!model_->tangent_row_abs_sums(u, points, skip_col_, sums))
+    throw NumericalError(
+        "inadmissible deformation (J ≤ 0) while re-estimating the stable time step after "
+        "bonds broke");
+  const int d = model_->dimension();
+  double wmax2 = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (int a = 0; a < d; ++a) {
+      const std::size_t dof = static_cast<std::size_t>(d) * points[i] + a;
+      if (prescribed_[dof] >= 0) continue;
+      wmax2 = std::max(wmax2, sums[d * i + a] / m_[dof]);
+    }
+  return wmax2 > 0 ? 2.0 / std::sqrt(wmax2) : std::numeric_limits<double>::infinity();
+}
+
+void ExplicitSolver::attach_rupture(Rupture* r) {
+  if (r && r->options().anchor_detached)
+    throw Error("internal error: dynamic fracture needs RuptureOptions::anchor_detached = false");
+  if (r && r->options().check_every < 1)
+    throw InputError("rupture.check_every must be at least 1").key("rupture.check_every");
+  rupture_ = r;
+  if (r) {
+    skip_col_.resize(prescribed_.size());
+    for (std::size_t i = 0; i < prescribed_.size(); ++i) skip_col_[i] = prescribed_[i] >= 0;
+    row_mark_.assign(model_->body().size(), 0);
+  }
+}
+
+void ExplicitSolver::rupture_check() {
+  const RupturePass p = rupture_->break_exceeding(u_);
+  last_pass_.max_value = p.max_value;
+  if (p.broken == 0) return;
+  last_pass_.broken += p.broken;
+  last_pass_.inverted += p.inverted;
+  last_pass_.rebuilt += p.rebuilt;
+  // the force at u_{n+1} with the rebuilt stencils (v_{n+1} stays)
+  compute_acceleration(t_);
+  after_break();
+}
+
+void ExplicitSolver::after_break() {
+  // Stable step: rows touched by the rebuilt stencils = members of the point stencils of
+  // the rebuilt centres (every rebuilt stencil lies within δ of its centre).
+  const Discretization& B = model_->body();
+  const Stencils& P = B.point_stencils();
+  std::vector<int> rows;
+  for (int c : rupture_->rebuilt_centres())
+    for (auto r = P.offsets[c]; r < P.offsets[c + 1]; ++r)
+      if (!row_mark_[P.index[r]]) {
+        row_mark_[P.index[r]] = 1;
+        rows.push_back(P.index[r]);
+      }
+  for (int k : rows) row_mark_[k] = 0;
+  const double crit = critical_time_step_local(u_, rows);
+  if (crit < crit_) crit_ = crit;
+  if (!opt_.allow_unstable && dt_ > opt_.safety * crit) {
+    const double old = dt_;
+    dt_ = opt_.safety * crit;
+    log::warn(
+        "t = {:.6g}: the stencils rebuilt after {} bonds broke lower the stable limit to {:.6g} "
+        "(Gershgorin on {} rows): time step {:.6g} → {:.6g} (safety {})",
+        t_, last_pass_.broken, crit, rows.size(), old, dt_, opt_.safety);
+  }
+}
+
 void ExplicitSolver::set_displacement(const Eigen::VectorXd& u) {
   u_ = u;
   compute_acceleration(t_);
 }
 
 void ExplicitSolver::compute_force(double t) {
-  if (!model_->internal_force(u_, f_))
-    throw NumericalError(
-        fmt::format("inadmissible deformation (J ≤ 0) at time {:.6g}: the time step may be too "
-                    "large or the motion too violent",
-                    t));
+  if (model_->internal_force(u_, f_)) return;
+  if (rupture_) {
+    // Dynamic fracture: a stencil inverted (J ≤ 0) during the step; its material cannot be
+    // evaluated — the bond counts as past every criterion and breaks (then the stable
+    // step is re-estimated on the rebuilt rows like after a criterion check).
+    const RupturePass p = rupture_->break_inadmissible(u_);
+    last_pass_.broken += p.broken;
+    last_pass_.inverted += p.inverted;
+    last_pass_.rebuilt += p.rebuilt;
+    if ((p.broken > 0 || p.point_stencils_off > 0) && model_->internal_force(u_, f_)) {
+      after_break();
+      return;
+    }
+  }
+  throw NumericalError(
+      fmt::format("inadmissible deformation (J ≤ 0) at time {:.6g}: the time step may be too "
+                  "large or the motion too violent",
+                  t));
 }
 
 void ExplicitSolver::compute_acceleration(double t) {
@@ -134,6 +219,7 @@ void ExplicitSolver::acceleration_from_force() {
 
 void ExplicitSolver::step() {
   const double h = dt_, t1 = t_ + h;
+  if (rupture_) last_pass_ = {};
   // Damping by Strang splitting: v ← e^{−c h/2} v before and after the Verlet step (exact
   // for the damping part, stable for every c ≥ 0; the prescribed components are reset below).
   if (c_ > 0) v_ *= std::exp(-0.5 * c_ * h);
@@ -159,6 +245,9 @@ void ExplicitSolver::step() {
     const auto& fn = dsets_[p >> 2].component[p & 3];
     v_[i] = (fn(t1 + 0.5 * h) - fn(t1 - 0.5 * h)) / h;
   }
+  ++n_steps_;
+  // only with dynamic fracture: one test per step, nothing per bond
+  if (rupture_ && n_steps_ % rupture_->options().check_every == 0) rupture_check();
 }
 
 double ExplicitSolver::kinetic_energy() const { return 0.5 * v_.dot(m_.cwiseProduct(v_)); }

@@ -18,6 +18,14 @@
 ///   Δt_crit = 2 / √(max_k Σ_n |K_kn| / M_k)
 /// is a safe (conservative) bound; Δt = safety · Δt_crit. K is the consistent tangent at the
 /// current state (at u = 0 unless re-estimated).
+///
+/// Dynamic fracture (attach_rupture, docs/effects.md §3c): after every check_every-th step
+/// the rupture criterion is evaluated on the intact bonds at u_{n+1}; bonds past it break,
+/// the touched stencils are rebuilt locally (Rupture::break_exceeding), and f, a are
+/// recomputed at u_{n+1} with the new stencils (v_{n+1} is kept: breaking changes forces,
+/// not positions or velocities). The stable step is re-estimated on the rows the rebuilt
+/// stencils touch (Gershgorin at u_{n+1}); if safety·Δt_crit,local < Δt the step shrinks
+/// to it (a warning), never grows.
 #pragma once
 
 #include <Eigen/Core>
@@ -25,6 +33,7 @@
 
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
+#include "pdcg/solver/rupture.hpp"
 
 namespace pdcg::solver {
 
@@ -86,13 +95,29 @@ class ExplicitSolver {
   /// Current damping coefficient (viscous: fixed; adaptive: c_n of the last step).
   double damping_coefficient() const { return c_; }
 
+  /// Dynamic fracture: check the rupture criterion after every r.options().check_every-th
+  /// step (see the file comment). The rupture must be built on the model's body with
+  /// anchor_detached = false. Without it, step() does no rupture work at all.
+  void attach_rupture(Rupture* r);
+  /// The break event of the last step (zero counts if nothing broke or not checked).
+  const RupturePass& last_rupture() const { return last_pass_; }
+  /// Number of steps taken (restored with the state).
+  long steps_taken() const { return n_steps_; }
+  /// Recomputes f and a at the current u (after the model changed, e.g. bonds broke).
+  void refresh_force() { compute_acceleration(t_); }
+  /// Gershgorin bound 2/√(max Σ_n |K_kn|/M_k) over the rows of the given points only.
+  double critical_time_step_local(const Eigen::VectorXd& u, const std::vector<int>& points) const;
+
   /// Complete state after a step (for checkpoints): restoring it and stepping on gives
   /// bitwise the same trajectory as never stopping.
   struct State {
     Eigen::VectorXd u, v, a, f, f_prev;
     double t = 0.0, c = 0.0;
+    double dt = 0.0;    ///< the current step (0: keep; shrinks after rebuilds)
+    double crit = 0.0;  ///< the current stable limit (0: keep)
+    long steps = 0;     ///< steps taken
   };
-  State state() const { return {u_, v_, a_, f_, f_prev_, t_, c_}; }
+  State state() const { return {u_, v_, a_, f_, f_prev_, t_, c_, dt_, crit_, n_steps_}; }
   void restore(const State& s);
 
  private:
@@ -106,6 +131,13 @@ class ExplicitSolver {
   void update_adaptive_damping();
   Eigen::VectorXd m_, u_, v_, a_, f_, f_prev_;
   double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0;
+  void rupture_check();
+  void after_break();  // force and stable-step update after last_pass_ broke bonds
+  Rupture* rupture_ = nullptr;
+  RupturePass last_pass_;
+  long n_steps_ = 0;
+  std::vector<char> skip_col_;  // prescribed dofs (Gershgorin columns skipped)
+  std::vector<char> row_mark_;  // scratch for the local re-estimate
 };
 
 }  // namespace pdcg::solver

@@ -243,10 +243,21 @@ TEST(Inertia, BadInputIsReported) {
   bt.insert(bt.find("solver:"), "  - {name: top, region: {y_min: 0.25}, traction: [0.0, 0.1]}\n");
   e = error_of(bt + "effects: [inertia]\ninertia: {end_time: 1}\n");
   EXPECT_TRUE(has(e, "traction") && has(e, "not applied in explicit dynamics")) << e;
+  // dynamic fracture: max_passes belongs to quasi-static runs, check_every to dynamic ones
   e = error_of(base +
                "effects: [inertia, rupture]\ninertia: {end_time: 1}\n"
-               "rupture: {critical: 2}\n");
-  EXPECT_TRUE(has(e, "dynamic fracture")) << e;
+               "rupture: {critical: 2, max_passes: 3}\n");
+  EXPECT_TRUE(has(e, "rupture.max_passes") && has(e, "staggered")) << e;
+  e = error_of(base +
+               "effects: [inertia, rupture]\ninertia: {end_time: 1}\n"
+               "rupture: {critical: 2, check_every: 0}\n");
+  EXPECT_TRUE(has(e, "rupture.check_every") && has(e, "at least 1")) << e;
+  {
+    std::string qs = base;  // quasi-static: no initial velocities
+    qs.erase(qs.find("initial:"), qs.find('\n', qs.find("initial:")) - qs.find("initial:") + 1);
+    e = error_of(qs + "effects: [rupture]\nrupture: {critical: 2, check_every: 2}\n");
+    EXPECT_TRUE(has(e, "check_every is the number of time steps")) << e;
+  }
   // damping
   std::string quiet = base;  // without initial velocities
   quiet.erase(quiet.find("initial:"),
@@ -324,4 +335,17 @@ TEST(Inertia, ResolvedSceneKeepsInertiaDampingInitial) {
   EXPECT_EQ(s2.damping_coefficient, 0.5);
   EXPECT_EQ(s2.initial_velocity_text[0], s.initial_velocity_text[0]);
   EXPECT_EQ(s2.checkpoint_every, 7);
+}
+
+TEST(Inertia, ResolvedSceneKeepsDynamicFracture) {
+  const auto s = scene::load_scene(
+      write("rf.yaml", bar(1.0, 0.25, "weak", 1e-3,
+                           "effects: [inertia, rupture]\ninertia: {end_time: 2}\n"
+                           "rupture: {criterion: principal_stretch, critical: 1.5, "
+                           "check_every: 3}\n")));
+  const auto s2 = scene::load_scene(write("rf2.yaml", scene::resolved_yaml(s)));
+  EXPECT_TRUE(s2.inertia && s2.rupture);
+  EXPECT_EQ(s2.rupture_options.check_every, 3);
+  EXPECT_EQ(s2.rupture_options.critical, 1.5);
+  EXPECT_FALSE(s2.rupture_options.anchor_detached);  // fragments move on in dynamics
 }
