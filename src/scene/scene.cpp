@@ -1232,8 +1232,9 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
   if (rupture)
     log::info("dynamic fracture: {} bonds broken in {} break events, {} ill-posed stencils off{}",
               body.broken_bonds(), break_events, body.suppressed_stencils(),
-              dt != dt_start ? fmt::format("; the time step shrank to {:.6g} (stable limit {:.6g})",
-                                           dt, ex->stable_limit())
+              dt != dt_start ? fmt::format("; time step at the end {:.6g} (start {:.6g}, stable "
+                                           "limit {:.6g})",
+                                           dt, dt_start, ex->stable_limit())
                              : std::string());
   log::info(
       "done: {} steps to t = {:.6g}; total energy {:.10g} (start {:.10g}, change {:.3e}); "

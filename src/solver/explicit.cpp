@@ -51,6 +51,7 @@ ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> 
           .expected("0 < safety ≤ 1, e.g. 0.8");
     dt_ = opt_.safety * crit;
   }
+  dt_nominal_ = dt_;
   if (opt_.damping_type == ExplicitDamping::none && opt_.damping > 0)
     opt_.damping_type = ExplicitDamping::viscous;
   if (opt_.damping_type == ExplicitDamping::viscous) c_ = opt_.damping;
@@ -168,16 +169,25 @@ void ExplicitSolver::after_break() {
         rows.push_back(P.index[r]);
       }
   for (int k : rows) row_mark_[k] = 0;
-  const double crit = critical_time_step_local(u_, rows);
-  if (crit < crit_) crit_ = crit;
-  if (!opt_.allow_unstable && dt_ > opt_.safety * crit) {
-    const double old = dt_;
-    dt_ = opt_.safety * crit;
+  if (opt_.allow_unstable) return;  // the user's step, whatever the limit
+  const double local = critical_time_step_local(u_, rows);
+  // Shrink: the rebuilt rows need a smaller step. Grow back: a step shrunk earlier may
+  // have been set by a transient (a stencil stretched hard just before its bond broke).
+  // Either way the whole tangent decides (one assembly, only in these cases): the step
+  // is safety × the Gershgorin bound of all rows at u_{n+1}, never above the nominal step.
+  if (!(dt_ > opt_.safety * local) && !(dt_ < dt_nominal_)) return;
+  const double full = critical_time_step(u_);
+  crit_ = full;
+  const double old = dt_;
+  dt_ = std::min(dt_nominal_, opt_.safety * full);
+  if (dt_ < old)
     log::warn(
         "t = {:.6g}: the stencils rebuilt after {} bonds broke lower the stable limit to {:.6g} "
-        "(Gershgorin on {} rows): time step {:.6g} → {:.6g} (safety {})",
-        t_, last_pass_.broken, crit, rows.size(), old, dt_, opt_.safety);
-  }
+        "(Gershgorin bound of the tangent at this state): time step {:.6g} → {:.6g} (safety {})",
+        t_, last_pass_.broken, full, old, dt_, opt_.safety);
+  else if (dt_ > old)
+    log::info("t = {:.6g}: stable limit {:.6g} at this state: time step {:.6g} → {:.6g}", t_, full,
+              old, dt_);
 }
 
 void ExplicitSolver::set_displacement(const Eigen::VectorXd& u) {

@@ -24,8 +24,10 @@
 /// the touched stencils are rebuilt locally (Rupture::break_exceeding), and f, a are
 /// recomputed at u_{n+1} with the new stencils (v_{n+1} is kept: breaking changes forces,
 /// not positions or velocities). The stable step is re-estimated on the rows the rebuilt
-/// stencils touch (Gershgorin at u_{n+1}); if safety·Δt_crit,local < Δt the step shrinks
-/// to it (a warning), never grows.
+/// stencils touch (Gershgorin at u_{n+1}); if safety·Δt_crit,local < Δt, or the step was
+/// shrunk before, the Gershgorin bound of the whole tangent at u_{n+1} sets the step:
+/// Δt = min(Δt_nominal, safety·Δt_crit) (it shrinks, and grows back when a transient that
+/// shrank it is gone).
 #pragma once
 
 #include <Eigen/Core>
@@ -66,13 +68,16 @@ class ExplicitSolver {
 
   /// Gershgorin bound Δt_crit = 2/√(max_k Σ_n |K_kn|/M_k) at displacement u.
   double critical_time_step(const Eigen::VectorXd& u) const;
-  /// The limit computed at construction (at u = 0).
+  /// The stable limit: at construction (u = 0), then the last full re-estimate after bonds
+  /// broke (dynamic fracture).
   double stable_limit() const { return crit_; }
   double time_step() const { return dt_; }
   /// Shortens the step (e.g. to end exactly at a given time); never above the current one.
   void shorten_time_step(double dt) {
     if (dt > 0 && dt <= dt_) dt_ = dt;
   }
+  /// The step at construction (the cap when a shrunk step grows back).
+  double nominal_time_step() const { return dt_nominal_; }
   double time() const { return t_; }
   void set_velocity(const Eigen::VectorXd& v) { v_ = v; }
   void set_displacement(const Eigen::VectorXd& u);
@@ -130,7 +135,7 @@ class ExplicitSolver {
   std::vector<int> prescribed_;  // dof -> (set << 2 | comp) or −1
   void update_adaptive_damping();
   Eigen::VectorXd m_, u_, v_, a_, f_, f_prev_;
-  double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0;
+  double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0, dt_nominal_ = 0.0;
   void rupture_check();
   void after_break();  // force and stable-step update after last_pass_ broke bonds
   Rupture* rupture_ = nullptr;
