@@ -490,14 +490,6 @@ Scene load_scene(const std::filesystem::path& file) {
                "loading.steps is for quasi-static runs: with inertia, t in the boundary values is "
                "the time, and inertia.end_time ends the run")
           .fix("remove the loading section");
-    for (const auto& bc : s.boundary)
-      if (bc.is_traction)
-        throw InputError(
-            "traction boundary conditions are not applied in explicit dynamics "
-            "(not implemented in this build)")
-            .source(c.file)
-            .key("boundary[" + bc.name + "].traction")
-            .fix("use displacement conditions, or remove inertia (quasi-static)");
   }
   if (!s.inertia && root["output"] && root["output"]["series_every"])
     throw c
@@ -1023,7 +1015,8 @@ std::vector<double> std_of(const Eigen::VectorXd& v) { return {v.data(), v.data(
 void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                  const std::optional<Restart>& restart, solver::Discretization& body,
                  solver::Model& model, const solver::Material& material,
-                 std::vector<solver::DisplacementSet> dsets) {
+                 std::vector<solver::DisplacementSet> dsets,
+                 std::vector<solver::TractionSet> tsets) {
   const int d = s.dimension;
   const std::size_t N = body.size();
   if (restart && restart->kind != "dynamic")
@@ -1041,7 +1034,8 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
   }
   std::unique_ptr<solver::ExplicitSolver> ex;
   try {
-    ex = std::make_unique<solver::ExplicitSolver>(model, dsets, eo);
+    // tractions: nominal t*(t) with t the time, as the displacement values of dynamic scenes
+    ex = std::make_unique<solver::ExplicitSolver>(model, dsets, std::move(tsets), eo);
   } catch (InputError& e) {
     throw e.source(s.source.string());
   }
@@ -1296,7 +1290,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     }
   }
   if (s.inertia) {
-    run_dynamic(s, dir, restart, body, model, *material, std::move(dsets));
+    run_dynamic(s, dir, restart, body, model, *material, std::move(dsets), std::move(tsets));
     return;
   }
   solver::NewtonOptions nopt = s.newton;

@@ -12,7 +12,11 @@ namespace pdcg::solver {
 
 ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
                                ExplicitOptions options)
-    : model_(&model), dsets_(std::move(displacement)), opt_(options) {
+    : ExplicitSolver(model, std::move(displacement), {}, options) {}
+
+ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
+                               std::vector<TractionSet> traction, ExplicitOptions options)
+    : model_(&model), dsets_(std::move(displacement)), opt_(options), tsets_(std::move(traction)) {
   const int d = model.dimension();
   const std::size_t n = model.dofs();
   if (!(opt_.density > 0)) throw InputError("density must be positive").key("material.density");
@@ -24,6 +28,16 @@ ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> 
     for (int p : dsets_[s].points)
       for (int a = 0; a < d; ++a)
         if (dsets_[s].component[a]) prescribed_[d * p + a] = static_cast<int>(s << 2 | a);
+  // traction face areas, as StaticSolver: dS_k = max(0, s_k · n̂), n̂ the set's mean normal
+  const auto& surf = model.body().surface();
+  for (const auto& ts : tsets_) {
+    Vec3 nsum = Vec3::Zero();
+    for (int p : ts.points) nsum += surf[p];
+    const Vec3 nh = nsum.norm() > 0 ? Vec3(nsum.normalized()) : Vec3::Zero();
+    std::vector<double> area;
+    for (int p : ts.points) area.push_back(std::max(0.0, surf[p].dot(nh)));
+    traction_area_.push_back(std::move(area));
+  }
   u_ = Eigen::VectorXd::Zero(n);
   v_ = Eigen::VectorXd::Zero(n);
   const double crit = critical_time_step(u_);
@@ -219,6 +233,26 @@ void ExplicitSolver::compute_force(double t) {
 void ExplicitSolver::compute_acceleration(double t) {
   compute_force(t);
   acceleration_from_force();
+  if (!tsets_.empty()) add_external_force(t);
+}
+
+void ExplicitSolver::add_external_force(double t) {
+  const int d = model_->dimension();
+  for (std::size_t s = 0; s < tsets_.size(); ++s) {
+    const Vec3 tr = tsets_[s].traction(t);
+    for (std::size_t i = 0; i < tsets_[s].points.size(); ++i)
+      for (int a = 0; a < d; ++a) {
+        const std::size_t dof = static_cast<std::size_t>(d) * tsets_[s].points[i] + a;
+        if (prescribed_[dof] < 0) a_[dof] += tr(a) * traction_area_[s][i] / m_[dof];
+      }
+  }
+}
+
+Vec3 ExplicitSolver::traction_force(std::size_t set) const {
+  const Vec3 tr = tsets_.at(set).traction(t_);
+  double area = 0;
+  for (double a : traction_area_[set]) area += a;
+  return tr * area;
 }
 
 void ExplicitSolver::acceleration_from_force() {
@@ -247,6 +281,7 @@ void ExplicitSolver::step() {
   compute_force(t_);
   if (opt_.damping_type == ExplicitDamping::adaptive) update_adaptive_damping();
   acceleration_from_force();
+  if (!tsets_.empty()) add_external_force(t_);
   v_ += 0.5 * h * a_;
   if (c_ > 0) v_ *= std::exp(-0.5 * c_ * h);
   for (std::size_t i = 0; i < prescribed_.size(); ++i) {

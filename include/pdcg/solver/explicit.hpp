@@ -65,6 +65,12 @@ class ExplicitSolver {
   /// Throws InputError if time_step exceeds the stable limit (naming both).
   ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
                  ExplicitOptions options);
+  /// With nominal tractions t*(t) on point sets, t the time: the external force
+  /// f_ext,k = t*(t) dS_k, dS_k = max(0, s_k · n̂) (n̂ the mean outward normal of the set;
+  /// the same face areas as the static solver) enters M a = f_ext(t) − f(u). No traction
+  /// set: nothing is allocated or evaluated for them.
+  ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
+                 std::vector<TractionSet> traction, ExplicitOptions options);
 
   /// Gershgorin bound Δt_crit = 2/√(max_k Σ_n |K_kn|/M_k) at displacement u.
   double critical_time_step(const Eigen::VectorXd& u) const;
@@ -97,6 +103,8 @@ class ExplicitSolver {
   const Eigen::VectorXd& internal_force() const { return f_; }
   /// Σ f_int over the points of displacement set i (the force the constraint exerts, negated).
   Vec3 reaction(std::size_t set) const;
+  /// Σ f_ext over the points of traction set i at the current time (its resultant).
+  Vec3 traction_force(std::size_t set) const;
   /// Current damping coefficient (viscous: fixed; adaptive: c_n of the last step).
   double damping_coefficient() const { return c_; }
 
@@ -133,6 +141,9 @@ class ExplicitSolver {
   std::vector<DisplacementSet> dsets_;
   ExplicitOptions opt_;
   std::vector<int> prescribed_;  // dof -> (set << 2 | comp) or −1
+  std::vector<TractionSet> tsets_;
+  std::vector<std::vector<double>> traction_area_;
+  void add_external_force(double t);  // a_ += M⁻¹ f_ext(t) on free dofs
   void update_adaptive_damping();
   Eigen::VectorXd m_, u_, v_, a_, f_, f_prev_;
   double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0, dt_nominal_ = 0.0;
