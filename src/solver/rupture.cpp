@@ -291,6 +291,22 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
 
 std::size_t Rupture::stagger(StaticSolver& solver) {
   std::size_t total = 0;
+  // Stencils that invert (J ≤ 0) during the re-equilibrium (Newton's accepted states, ADR
+  // iterates) break there and the solve goes on (docs/effects.md §2).
+  std::size_t during = 0, during_points = 0;
+  solver.set_inadmissible_handler([&](const Eigen::VectorXd& u) {
+    const RupturePass p = break_inadmissible(u);
+    during += p.broken;
+    during_points += p.point_stencils_off;
+    if (p.broken + p.point_stencils_off > 0)
+      log::debug("re-equilibrium: {} bonds with an inverted stencil broke, {} point stencils off",
+                 p.broken, p.point_stencils_off);
+    return p.broken + p.point_stencils_off > 0;
+  });
+  struct Reset {
+    StaticSolver& s;
+    ~Reset() { s.set_inadmissible_handler({}); }
+  } reset{solver};
   for (int pass_no = 1;; ++pass_no) {
     const RupturePass p = break_exceeding(solver.displacement());
     if (p.broken == 0) {
@@ -308,16 +324,18 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
           "larger rupture.max_passes",
           solver.load_factor(), opt_.max_passes, body_->broken_bonds()));
     StepReport rep;
+    during = during_points = 0;
     const bool ok = solver.reequilibrate(rep);
     log::info(
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
         "{} stencils rebuilt, {} ill-posed stencils off, {} detached points; re-equilibrium: {} "
-        "({} Newton iterations, residual {:.3e})",
+        "({} Newton iterations, residual {:.3e}; {} bonds broke and {} point stencils went off "
+        "when their stencils inverted during it)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
         ok ? "converged" : "FAILED", rep.iterations,
-        rep.residual_history.empty() ? NAN : rep.residual_history.back());
+        rep.residual_history.empty() ? NAN : rep.residual_history.back(), during, during_points);
     if (!ok) {
       log::warn(
           "rupture pass {} at t = {:.6g}: Newton cannot re-equilibrate after {} bonds broke "
@@ -325,13 +343,15 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
           "adaptive dynamic relaxation",
           pass_no, solver.load_factor(), p.broken, fmt::join(rep.residual_history, " "));
       StepReport adr;
+      during = during_points = 0;
       const bool relaxed = solver.relax(opt_.relaxation_tolerance, opt_.relaxation_iterations, adr);
       StepReport polish;
       const bool polished = relaxed && solver.reequilibrate(polish);
       log::info(
-          "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}); Newton polish: "
+          "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}; {} bonds broke "
+          "and {} point stencils went off when their stencils inverted); Newton polish: "
           "{} ({} iterations, residual {:.3e})",
-          relaxed ? "converged" : "FAILED", adr.iterations, adr.residual,
+          relaxed ? "converged" : "FAILED", adr.iterations, adr.residual, during, during_points,
           polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
           polish.residual_history.empty() ? NAN : polish.residual_history.back());
       if (!polished)
