@@ -195,13 +195,13 @@ void ExplicitSolver::after_break() {
   const double old = dt_;
   dt_ = std::min(dt_nominal_, opt_.safety * full);
   if (dt_ < old)
-    log::warn(
+    log::debug(
         "t = {:.6g}: the stencils rebuilt after {} bonds broke lower the stable limit to {:.6g} "
         "(Gershgorin bound of the tangent at this state): time step {:.6g} → {:.6g} (safety {})",
         t_, last_pass_.broken, full, old, dt_, opt_.safety);
   else if (dt_ > old)
-    log::info("t = {:.6g}: stable limit {:.6g} at this state: time step {:.6g} → {:.6g}", t_, full,
-              old, dt_);
+    log::debug("t = {:.6g}: stable limit {:.6g} at this state: time step {:.6g} → {:.6g}", t_, full,
+               old, dt_);
 }
 
 void ExplicitSolver::set_displacement(const Eigen::VectorXd& u) {

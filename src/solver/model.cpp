@@ -149,11 +149,11 @@ bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
   for (std::size_t s = 0; s < ns; ++s) {
     const Mat3 F = stencil_gradient(S, s, u);
     if (!tangent) {
-      if (!material_->evaluate(F, nullptr, &Ps_[s], nullptr)) ok = false;
+      if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], nullptr)) ok = false;
       continue;
     }
     Tangent A;
-    if (!material_->evaluate(F, nullptr, &Ps_[s], &A)) ok = false;
+    if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], &A)) ok = false;
     // Compact d²×d² copy (2D: 16 of the 81 entries), contiguous per stencil: the
     // row gather reads it once per member row, so its size is the memory traffic.
     double* c = Ac_.data() + s * static_cast<std::size_t>(d4);
@@ -170,7 +170,9 @@ bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
     for (std::size_t k = 0; k < N; ++k) {
       if (!weak_row_[k]) continue;
       const Mat3 F = stencil_gradient(Pst, k, u);
-      if (!material_->evaluate(F, nullptr, &Pbar_[k], tangent ? &Abar_[k] : nullptr)) ok = false;
+      if (!material_->evaluate_at(static_cast<int>(k), F, nullptr, &Pbar_[k],
+                                  tangent ? &Abar_[k] : nullptr))
+        ok = false;
     }
   }
   return ok;
@@ -183,7 +185,8 @@ double Model::energy(const Eigen::VectorXd& u) const {
 #pragma omp parallel for schedule(static) reduction(+ : e) reduction(&& : ok)
   for (std::size_t s = 0; s < S.size(); ++s) {
     double psi = 0;
-    if (!material_->evaluate(stencil_gradient(S, s, u), &psi, nullptr, nullptr)) ok = false;
+    if (!material_->evaluate_at(S.center[s], stencil_gradient(S, s, u), &psi, nullptr, nullptr))
+      ok = false;
     e += S.weight[s] * psi;
   }
   for (std::size_t a = 0; a < anchor_points_.size(); ++a)
@@ -361,7 +364,8 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
     const int s = need[i];
     Tangent A;
     Mat3 P;
-    if (!material_->evaluate(stencil_gradient(S, s, u), nullptr, &P, &A)) ok = false;
+    if (!material_->evaluate_at(S.center[s], stencil_gradient(S, s, u), nullptr, &P, &A))
+      ok = false;
     double* c = Ac_.data() + static_cast<std::size_t>(s) * d4;
     for (int a = 0; a < d; ++a)
       for (int J = 0; J < d; ++J)
@@ -371,7 +375,8 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
   for (int k : points)
     if (weak_row_[k]) {
       Mat3 P;
-      if (!material_->evaluate(stencil_gradient(Pst, k, u), nullptr, &P, &Abar_[k])) ok = false;
+      if (!material_->evaluate_at(k, stencil_gradient(Pst, k, u), nullptr, &P, &Abar_[k]))
+        ok = false;
     }
   if (!ok) return false;
   sums.assign(points.size() * static_cast<std::size_t>(d), 0.0);

@@ -80,7 +80,7 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
         if (opt_.criterion == RuptureCriterion::energy_density) {
           double psi = 0;
           // inadmissible F (J ≤ 0) counts as past every criterion
-          dir[q] = mat.evaluate(F, &psi, nullptr, nullptr)
+          dir[q] = mat.evaluate_at(static_cast<int>(i), F, &psi, nullptr, nullptr)
                        ? psi
                        : std::numeric_limits<double>::infinity();
         } else {
@@ -223,7 +223,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
           for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
       }
       Mat3 P;
-      if (!mat.evaluate(F, nullptr, &P, nullptr)) bad[q] = 1;
+      if (!mat.evaluate_at(static_cast<int>(i), F, nullptr, &P, nullptr)) bad[q] = 1;
     }
   }
   std::size_t n = 0;
@@ -249,7 +249,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
           for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
       }
       Mat3 P;
-      if (!mat.evaluate(F, nullptr, &P, nullptr) &&
+      if (!mat.evaluate_at(static_cast<int>(k), F, nullptr, &P, nullptr) &&
           body_->suppress_point_stencil(static_cast<int>(k)) && points_off)
         ++*points_off;
     }

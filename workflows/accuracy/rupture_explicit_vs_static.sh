@@ -6,7 +6,7 @@
 # by explicit dynamics (velocity Verlet + dynamic fracture, top velocity ramped to
 # V = UMAX/T_END·… with a rise time, see below). Writes OUT/compare.csv (peak load,
 # displacement at the peak, critical stretch = 1 + ū at the first break, crack path: tip x
-# and the largest distance of damaged points from the crack line, bonds broken, wall time)
+# and the mean distance of damaged points from the crack line, bonds broken, wall time)
 # and OUT/compare.png (load-displacement curves, final damage of both).
 #   workflows/accuracy/rupture_explicit_vs_static.sh [OUT=build/rupture_compare]
 # Environment: SPACING (0.05), STEPS (30), UMAX (0.3), T_END (explicit end time, 12),
