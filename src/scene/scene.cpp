@@ -1283,17 +1283,19 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
             "stencils rebuilt, {} ill-posed stencils off",
             n, ex->time(), p.broken, p.inverted, body.broken_bonds(), p.rebuilt,
             body.suppressed_stencils());
-        if (ex->time_step() != dt) {
-          // the rebuilt stencils lowered the stable limit: the remaining time in steps of the
-          // new size (auto: shortened to end exactly at end_time)
-          const double rest = s.end_time - ex->time();
-          const long k =
-              std::max(1L, static_cast<long>(std::ceil(rest / ex->time_step() * (1 - 1e-12))));
-          if (!(s.time_step > 0)) ex->shorten_time_step(rest / static_cast<double>(k));
-          dt = ex->time_step();
-          dt_min = std::min(dt_min, dt);
-          steps = n + k;
-        }
+      }
+      if (rupture && ex->time_step() != dt) {
+        // rebuilt stencils changed the stable limit: the remaining time in steps of the new
+        // size (auto: shortened to end exactly at end_time)
+        const double rest = s.end_time - ex->time();
+        const long k =
+            rest <= 1e-12 * s.end_time
+                ? 0L  // end_time reached: this step is the last
+                : std::max(1L, static_cast<long>(std::ceil(rest / ex->time_step() * (1 - 1e-12))));
+        if (!(s.time_step > 0) && k > 0) ex->shorten_time_step(rest / static_cast<double>(k));
+        dt = ex->time_step();
+        dt_min = std::min(dt_min, dt);
+        steps = n + k;
       }
     } catch (const NumericalError& e) {
       write_series();  // the series up to the failure, for the diagnosis
