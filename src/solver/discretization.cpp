@@ -382,6 +382,23 @@ void Discretization::enable_rupture() {
   if (!broken_.empty()) return;
   broken_.assign(families_.index.size(), 0);
   suppressed_.assign(bond_.size(), 0);
+  point_off_.assign(x_.size(), 0);
+}
+
+bool Discretization::suppress_point_stencil(int k) {
+  if (point_off_.empty()) throw Error("internal error: suppress_point_stencil without rupture");
+  if (point_off_[k]) return false;
+  point_off_[k] = 1;
+  std::fill(point_.grad.begin() + point_.offsets[k] * dim_,
+            point_.grad.begin() + point_.offsets[k + 1] * dim_, 0.0);
+  return true;
+}
+
+std::vector<int> Discretization::suppressed_point_stencils() const {
+  std::vector<int> out;
+  for (std::size_t k = 0; k < point_off_.size(); ++k)
+    if (point_off_[k]) out.push_back(static_cast<int>(k));
+  return out;
 }
 
 std::int64_t Discretization::bond_index(int i, int j) const {
@@ -404,7 +421,10 @@ bool Discretization::break_bond(int i, int j) {
 }
 
 std::size_t Discretization::rebuild_broken(double min_rc) {
-  if (dirty_.empty()) return 0;
+  if (dirty_.empty()) {
+    rebuilt_centres_.clear();
+    return 0;
+  }
   const double rc_min = min_rc > 0 ? min_rc : opt_.min_reciprocal_condition;
   const int d = dim_;
   const std::size_t N = x_.size();
@@ -415,7 +435,8 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
     for (auto q = families_.begin(p); q < families_.end(p); ++q) mark[families_.index[q]] = 1;
   }
   dirty_.clear();
-  std::vector<int> centres;
+  std::vector<int>& centres = rebuilt_centres_;
+  centres.clear();
   for (std::size_t i = 0; i < N; ++i)
     if (mark[i]) centres.push_back(static_cast<int>(i));
   auto intact = [&](int a, int b) {
@@ -446,7 +467,7 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
         g.assign(act.size() * d, 0.0);
         const double rc =
             pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
-        const bool ok = rc >= rc_min;
+        const bool ok = rc >= rc_min && !point_off_[i];
         std::size_t k = 0;  // advances over the active members only
         for (auto r = b; r < e; ++r) {
           for (int a = 0; a < d; ++a)

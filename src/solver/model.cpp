@@ -340,6 +340,122 @@ bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
   return true;
 }
 
+bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int>& points,
+                                 const std::vector<char>& skip_column,
+                                 std::vector<double>& sums) const {
+  // The A of every stencil these rows meet, once (into the scratch of the tangent
+  // assembly), then the rows gathered as in assemble_rows.
+  const Stencils& S = *energy_;
+  const Stencils& Pst = body_->point_stencils();
+  const int d = d_, d2 = d * d, d4 = d2 * d2;
+  std::vector<char> mark(S.size(), 0);
+  std::vector<int> need;
+  for (int k : points)
+    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q)
+      if (!mark[member_of_.index[q]]) {
+        mark[member_of_.index[q]] = 1;
+        need.push_back(member_of_.index[q]);
+      }
+  if (Ac_.size() < S.size() * static_cast<std::size_t>(d4)) Ac_.resize(S.size() * d4);
+  if (Abar_.size() < body_->size()) Abar_.resize(body_->size());
+  std::atomic<bool> ok{true};
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    const int s = need[i];
+    Tangent A;
+    Mat3 P;
+    if (!material_->evaluate_at(S.center[s], stencil_gradient(S, s, u), nullptr, &P, &A))
+      ok = false;
+    double* c = Ac_.data() + static_cast<std::size_t>(s) * d4;
+    for (int a = 0; a < d; ++a)
+      for (int J = 0; J < d; ++J)
+        for (int b = 0; b < d; ++b)
+          for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
+  }
+  for (int k : points)
+    if (weak_row_[k]) {
+      Mat3 P;
+      if (!material_->evaluate_at(k, stencil_gradient(Pst, k, u), nullptr, &P, &Abar_[k]))
+        ok = false;
+    }
+  if (!ok) return false;
+  sums.assign(points.size() * static_cast<std::size_t>(d), 0.0);
+#pragma omp parallel
+  {
+    std::vector<int> slot(body_->size(), -1);
+    std::vector<double> row;
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t pi = 0; pi < points.size(); ++pi) {
+      const int k = points[pi];
+      const auto a0 = adjacency_.begin(k), a1 = adjacency_.end(k);
+      for (auto p = a0; p < a1; ++p) slot[adjacency_.index[p]] = static_cast<int>(p - a0);
+      const std::size_t len = static_cast<std::size_t>(d) * (a1 - a0);
+      row.assign(d * len, 0.0);  // row a at a·len, column slot·d + b
+      double B[3][9];
+      for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
+        const int s = member_of_.index[q];
+        const double w = S.weight[s];
+        if (!(w != 0.0)) continue;
+        const double* gk = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d;
+        const double* A = Ac_.data() + static_cast<std::size_t>(s) * d4;
+        for (int a = 0; a < d; ++a)
+          for (int bL = 0; bL < d2; ++bL) {
+            double t = 0;
+            for (int J = 0; J < d; ++J) t += A[(a * d + J) * d2 + bL] * gk[J];
+            B[a][bL] = w * t;
+          }
+        for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+          const double* gn = S.grad.data() + r * d;
+          const std::size_t c0 = static_cast<std::size_t>(d) * slot[S.index[r]];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b) {
+              double t = 0;
+              for (int L = 0; L < d; ++L) t += B[a][b * d + L] * gn[L];
+              row[a * len + c0 + b] += t;
+            }
+        }
+      }
+      if (weak_row_[k]) {
+        const Tangent& A = Abar_[k];
+        const Vec3& e = defect_[k];
+        for (int a = 0; a < d; ++a)
+          for (int b = 0; b < d; ++b)
+            for (int L = 0; L < d; ++L) {
+              double t = 0;
+              for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
+              B[a][b * d + L] = t;
+            }
+        for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
+          const double* gn = Pst.grad.data() + r * d;
+          const std::size_t c0 = static_cast<std::size_t>(d) * slot[Pst.index[r]];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b) {
+              double t = 0;
+              for (int L = 0; L < d; ++L) t += B[a][b * d + L] * gn[L];
+              row[a * len + c0 + b] -= t;
+            }
+        }
+      }
+      for (int a = 0; a < d; ++a) {
+        double sum = 0;
+        for (auto p = a0; p < a1; ++p)
+          for (int b = 0; b < d; ++b) {
+            const int col = d * adjacency_.index[p] + b;
+            if (!skip_column.empty() && skip_column[col]) continue;
+            sum += std::abs(row[a * len + static_cast<std::size_t>(p - a0) * d + b]);
+          }
+        sums[static_cast<std::size_t>(d) * pi + a] = sum;
+      }
+    }
+  }
+  // anchored points: the spring on the diagonal
+  for (std::size_t a = 0; a < anchor_points_.size(); ++a)
+    for (std::size_t pi = 0; pi < points.size(); ++pi)
+      if (points[pi] == anchor_points_[a])
+        for (int c = 0; c < d; ++c) sums[static_cast<std::size_t>(d) * pi + c] += anchor_k_;
+  return true;
+}
+
 std::vector<Mat3> Model::point_deformation_gradients(const Eigen::VectorXd& u) const {
   const Stencils& S = *energy_;
   const std::size_t N = body_->size();
@@ -352,7 +468,8 @@ std::vector<Mat3> Model::point_deformation_gradients(const Eigen::VectorXd& u) c
     wsum[c] += S.weight[s];
   }
   for (std::size_t k = 0; k < N; ++k) {
-    F[k] /= wsum[k];
+    // a point whose stencils all broke (rupture) carries no stress: F = I, not 0/0
+    F[k] = wsum[k] > 0 ? Mat3(F[k] / wsum[k]) : Mat3::Identity();
     if (d_ == 2) F[k](2, 2) = 1.0;
   }
   return F;

@@ -197,7 +197,9 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
   double last_inc = INFINITY;
   for (int it = 0; it < opt_.max_iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (!model_->internal_force_and_tangent(u, f, K_)) return false;
+    if (!model_->internal_force_and_tangent(u, f, K_) &&
+        !(inadmissible_ && inadmissible_(u) && model_->internal_force_and_tangent(u, f, K_)))
+      return false;
     const auto t1 = std::chrono::steady_clock::now();
     for (int i = 0; i < nf; ++i) Rf[i] = f[free_dofs_[i]] - fext[free_dofs_[i]];
     const double scale = std::max({f.norm(), fext.norm(), 1e-300});
@@ -491,7 +493,25 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   for (; it < max_iterations && rel > tol; ++it) {
     for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += v[i];
     r_old = r_now;
-    if (!model_->internal_force(u, f)) {
+    bool admissible = model_->internal_force(u, f);
+    if (!admissible && inadmissible_ && inadmissible_(u)) {
+      // the handler changed the model at u (rupture: inverted stencils broke): go on from
+      // u with fictitious masses from the new tangent (stiffer rebuilt stencils)
+      if (model_->internal_force_and_tangent(u, f, K_)) {
+        for (int r = 0; r < nf; ++r) {
+          const int row = free_dofs_[r];
+          double sum = 0;
+          for (auto q = K_.outerIndexPtr()[row]; q < K_.outerIndexPtr()[row + 1]; ++q)
+            sum += std::abs(K_.valuePtr()[q]);
+          lam[r] = std::max(lam[r], 0.25 * sum);
+        }
+        residual(rel);
+        v = 0.5 * r_now.cwiseQuotient(lam);
+        continue;
+      }
+      admissible = model_->internal_force(u, f);
+    }
+    if (!admissible) {
       // inadmissible F (J ≤ 0): step back, make the fictitious masses 4× heavier, stop the motion
       for (int i = 0; i < nf; ++i) u[free_dofs_[i]] -= v[i];
       rep.iterations = it;

@@ -45,7 +45,7 @@ Rupture::Rupture(Discretization& body, Model& model, RuptureOptions options)
   anchor_stiffness_ = A.cwiseAbs().maxCoeff() * std::pow(body.spacing(), body.dimension() - 2);
 }
 
-std::vector<double> Rupture::criterion_values(const Eigen::VectorXd& u) const {
+double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
   const Discretization& B = *body_;
   const int d = B.dimension();
   const Csr& fam = B.families();
@@ -53,76 +53,127 @@ std::vector<double> Rupture::criterion_values(const Eigen::VectorXd& u) const {
   const auto& x = B.positions();
   const std::size_t N = B.size();
   const double ninf = -std::numeric_limits<double>::infinity();
-  std::vector<double> dir(fam.index.size(), ninf);
+  if (dir_.size() != fam.index.size()) dir_.assign(fam.index.size(), ninf);  // first call only
+  double* dir = dir_.data();
   const Material& mat = model_->material();
-#pragma omp parallel for schedule(dynamic, 32)
+  double vmax = ninf;
+#pragma omp parallel for schedule(dynamic, 32) reduction(max : vmax)
   for (std::size_t i = 0; i < N; ++i)
     for (auto q = fam.begin(i); q < fam.end(i); ++q) {
-      if (B.broken(q)) continue;
+      if (B.broken(q)) {
+        dir[q] = ninf;
+        continue;
+      }
       const int j = fam.index[q];
       if (opt_.criterion == RuptureCriterion::bond_stretch) {
         Vec3 y = x[j] - x[i];
         for (int a = 0; a < d; ++a) y(a) += u[d * j + a] - u[d * i + a];
         dir[q] = y.norm() / (x[j] - x[i]).norm();
-        continue;
-      }
-      Mat3 F = Mat3::Identity();
-      for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
-        const int m = S.index[r];
-        const double* g = S.grad.data() + r * d;
-        for (int a = 0; a < d; ++a)
-          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-      }
-      if (opt_.criterion == RuptureCriterion::energy_density) {
-        double psi = 0;
-        // inadmissible F (J ≤ 0) counts as past every criterion
-        dir[q] = mat.evaluate_at(static_cast<int>(i), F, &psi, nullptr, nullptr)
-                     ? psi
-                     : std::numeric_limits<double>::infinity();
       } else {
-        const Mat3 Ff = mat.full_deformation_gradient(F);
-        Eigen::SelfAdjointEigenSolver<Mat3> es(Ff.transpose() * Ff, Eigen::EigenvaluesOnly);
-        dir[q] = std::sqrt(std::max(0.0, es.eigenvalues()(2)));
+        Mat3 F = Mat3::Identity();
+        for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
+          const int m = S.index[r];
+          const double* g = S.grad.data() + r * d;
+          for (int a = 0; a < d; ++a)
+            for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
+        }
+        if (opt_.criterion == RuptureCriterion::energy_density) {
+          double psi = 0;
+          // inadmissible F (J ≤ 0) counts as past every criterion
+          dir[q] = mat.evaluate_at(static_cast<int>(i), F, &psi, nullptr, nullptr)
+                       ? psi
+                       : std::numeric_limits<double>::infinity();
+        } else {
+          const Mat3 Ff = mat.full_deformation_gradient(F);
+          Eigen::SelfAdjointEigenSolver<Mat3> es(Ff.transpose() * Ff, Eigen::EigenvaluesOnly);
+          dir[q] = std::sqrt(std::max(0.0, es.eigenvalues()(2)));
+        }
       }
+      // NaN counts as past the criterion (and as the maximum)
+      vmax = std::isnan(dir[q]) ? std::numeric_limits<double>::infinity() : std::max(vmax, dir[q]);
     }
+  return vmax;
+}
+
+std::vector<double> Rupture::criterion_values(const Eigen::VectorXd& u) const {
+  evaluate_directed(u);
+  const Discretization& B = *body_;
+  const Csr& fam = B.families();
   // symmetric value of the pair: the larger direction
-  std::vector<double> val(dir.size(), ninf);
-#pragma omp parallel for schedule(dynamic, 32)
-  for (std::size_t i = 0; i < N; ++i)
+  std::vector<double> val(dir_.size(), -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < B.size(); ++i)
     for (auto q = fam.begin(i); q < fam.end(i); ++q) {
       if (B.broken(q)) continue;
       const auto r = B.bond_index(fam.index[q], static_cast<int>(i));
-      val[q] = std::max(dir[q], dir[r]);
+      val[q] = std::max(dir_[q], dir_[r]);
     }
   return val;
 }
 
 RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
   RupturePass pass;
-  const auto val = criterion_values(u);
+  // The pair value is the larger of its two directions, so a pair is past the criterion
+  // iff one of its directed values is; the largest pair value is the largest directed one.
+  pass.max_value = evaluate_directed(u);
+  if (pass.max_value <= opt_.critical) {
+    all_rebuilt_.clear();
+    return pass;
+  }
   const Csr& fam = body_->families();
-  pass.max_value = -std::numeric_limits<double>::infinity();
+  const double* dir = dir_.data();
   for (std::size_t i = 0; i < body_->size(); ++i)
-    for (auto q = fam.begin(i); q < fam.end(i); ++q) {
-      const int j = fam.index[q];
-      if (!body_->broken(q)) pass.max_value = std::max(pass.max_value, val[q]);
-      // each pair once (i < j); NaN counts as broken (!(v <= critical))
-      if (j > static_cast<int>(i) && !body_->broken(q) && !(val[q] <= opt_.critical))
-        pass.broken += body_->break_bond(static_cast<int>(i), j) ? 1 : 0;
-    }
-  if (pass.broken > 0) pass.rebuilt = commit(u);
+    for (auto q = fam.begin(i); q < fam.end(i); ++q)
+      // NaN counts as broken (!(v <= critical)); break_bond returns false if already broken
+      if (!body_->broken(q) && !(dir[q] <= opt_.critical))
+        pass.broken += body_->break_bond(static_cast<int>(i), fam.index[q]) ? 1 : 0;
+  // centres rebuilt over all rounds of this pass (for a local re-estimate of the stable step)
+  std::vector<int> centres;
+  if (pass.broken > 0) {
+    pass.rebuilt = commit(u);
+    centres = body_->last_rebuilt_centres();
+  }
   // A rebuilt (thinned, one-sided) BA stencil can map the current displacement to an
   // inverted F (J ≤ 0) although its bond is below the criterion; the material cannot be
   // evaluated there and the re-equilibrium could not even start. Such a bond counts as past
   // every criterion (as energy_density already treats J ≤ 0) and breaks too; repeat until
   // every intact stencil is admissible at u (bounded: each round breaks at least one bond).
   for (int round = 0; pass.broken > 0 && round < 100; ++round) {
-    const std::size_t inv = break_inverted(u);
+    const std::vector<int> last = body_->last_rebuilt_centres();
+    const std::size_t inv = break_inverted(u, &pass.point_stencils_off, &last);
     if (inv == 0) break;
     pass.broken += inv;
     pass.inverted += inv;
     pass.rebuilt += commit(u);
+    const auto& c = body_->last_rebuilt_centres();
+    centres.insert(centres.end(), c.begin(), c.end());
   }
+  if (pass.inverted > 0) {
+    std::sort(centres.begin(), centres.end());
+    centres.erase(std::unique(centres.begin(), centres.end()), centres.end());
+  }
+  all_rebuilt_ = std::move(centres);
+  pass.anchored = model_->anchors().size();
+  return pass;
+}
+
+RupturePass Rupture::break_inadmissible(const Eigen::VectorXd& u) {
+  RupturePass pass;
+  std::vector<int> centres;
+  for (int round = 0; round < 100; ++round) {
+    std::size_t off = 0;
+    const std::vector<int> last = body_->last_rebuilt_centres();
+    const std::size_t inv = break_inverted(u, &off, round == 0 ? nullptr : &last);
+    pass.point_stencils_off += off;
+    if (inv == 0) break;
+    pass.broken += inv;
+    pass.inverted += inv;
+    pass.rebuilt += commit(u);
+    const auto& c = body_->last_rebuilt_centres();
+    centres.insert(centres.end(), c.begin(), c.end());
+  }
+  std::sort(centres.begin(), centres.end());
+  centres.erase(std::unique(centres.begin(), centres.end()), centres.end());
+  all_rebuilt_ = std::move(centres);
   pass.anchored = model_->anchors().size();
   return pass;
 }
@@ -140,23 +191,28 @@ std::vector<std::int64_t> Rupture::broken_pairs() const {
 }
 
 void Rupture::restore(const std::vector<std::int64_t>& pairs, std::vector<int> anchor_points,
-                      std::vector<double> anchor_targets) {
+                      std::vector<double> anchor_targets,
+                      const std::vector<std::int64_t>& point_stencils_off) {
   if (pairs.size() % 2 != 0) throw Error("internal error: odd broken-pair list");
+  for (auto k : point_stencils_off) body_->suppress_point_stencil(static_cast<int>(k));
   for (std::size_t k = 0; k < pairs.size(); k += 2)
     body_->break_bond(static_cast<int>(pairs[k]), static_cast<int>(pairs[k + 1]));
   body_->rebuild_broken(opt_.min_reciprocal_condition);
   model_->set_anchors(std::move(anchor_points), std::move(anchor_targets), anchor_stiffness_);
 }
 
-std::size_t Rupture::break_inverted(const Eigen::VectorXd& u) {
+std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* points_off,
+                                    const std::vector<int>* centres) {
   const Discretization& B = *body_;
   const int d = B.dimension();
   const Csr& fam = B.families();
   const Stencils& S = B.bond_stencils();
   const Material& mat = model_->material();
   std::vector<char> bad(fam.index.size(), 0);
+  const std::size_t nc = centres ? centres->size() : B.size();
 #pragma omp parallel for schedule(dynamic, 32)
-  for (std::size_t i = 0; i < B.size(); ++i)
+  for (std::size_t ci = 0; ci < nc; ++ci) {
+    const std::size_t i = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
     for (auto q = fam.begin(i); q < fam.end(i); ++q) {
       if (B.broken(q) || !(S.weight[q] > 0)) continue;
       Mat3 F = Mat3::Identity();
@@ -169,16 +225,41 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u) {
       Mat3 P;
       if (!mat.evaluate_at(static_cast<int>(i), F, nullptr, &P, nullptr)) bad[q] = 1;
     }
+  }
   std::size_t n = 0;
-  for (std::size_t i = 0; i < B.size(); ++i)
+  for (std::size_t ci = 0; ci < nc; ++ci) {
+    const std::size_t i = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
     for (auto q = fam.begin(i); q < fam.end(i); ++q)
       if (bad[q]) n += body_->break_bond(static_cast<int>(i), fam.index[q]) ? 1 : 0;
+  }
+  // Weak-form rows evaluate P(F̄_k) on the point stencil {k} ∪ intact H_k: at a crack it
+  // can invert too (measured in dynamic fracture: a thinned one-sided family folds). Its
+  // correction P(F̄_k) e_k is dropped for good (point stencil off: F̄_k = I, P = 0).
+  if (n == 0) {
+    const Stencils& Pst = B.point_stencils();
+    const auto& e = model_->boundary_defect();
+    for (std::size_t ci = 0; ci < nc; ++ci) {
+      const std::size_t k = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
+      if (e[k].isZero() || B.point_stencil_suppressed(static_cast<int>(k))) continue;
+      Mat3 F = Mat3::Identity();
+      for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
+        const int m = Pst.index[r];
+        const double* g = Pst.grad.data() + r * d;
+        for (int a = 0; a < d; ++a)
+          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
+      }
+      Mat3 P;
+      if (!mat.evaluate_at(static_cast<int>(k), F, nullptr, &P, nullptr) &&
+          body_->suppress_point_stencil(static_cast<int>(k)) && points_off)
+        ++*points_off;
+    }
+  }
   return n;
 }
 
 std::size_t Rupture::commit(const Eigen::VectorXd& u) {
   const std::size_t n = body_->rebuild_broken(opt_.min_reciprocal_condition);
-  if (n > 0) update_anchors(u);
+  if (n > 0 && opt_.anchor_detached) update_anchors(u);
   return n;
 }
 
@@ -210,6 +291,22 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
 
 std::size_t Rupture::stagger(StaticSolver& solver) {
   std::size_t total = 0;
+  // Stencils that invert (J ≤ 0) during the re-equilibrium (Newton's accepted states, ADR
+  // iterates) break there and the solve goes on (docs/effects.md §2).
+  std::size_t during = 0, during_points = 0;
+  solver.set_inadmissible_handler([&](const Eigen::VectorXd& u) {
+    const RupturePass p = break_inadmissible(u);
+    during += p.broken;
+    during_points += p.point_stencils_off;
+    if (p.broken + p.point_stencils_off > 0)
+      log::debug("re-equilibrium: {} bonds with an inverted stencil broke, {} point stencils off",
+                 p.broken, p.point_stencils_off);
+    return p.broken + p.point_stencils_off > 0;
+  });
+  struct Reset {
+    StaticSolver& s;
+    ~Reset() { s.set_inadmissible_handler({}); }
+  } reset{solver};
   for (int pass_no = 1;; ++pass_no) {
     const RupturePass p = break_exceeding(solver.displacement());
     if (p.broken == 0) {
@@ -227,16 +324,18 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
           "larger rupture.max_passes",
           solver.load_factor(), opt_.max_passes, body_->broken_bonds()));
     StepReport rep;
+    during = during_points = 0;
     const bool ok = solver.reequilibrate(rep);
     log::info(
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
         "{} stencils rebuilt, {} ill-posed stencils off, {} detached points; re-equilibrium: {} "
-        "({} Newton iterations, residual {:.3e})",
+        "({} Newton iterations, residual {:.3e}; {} bonds broke and {} point stencils went off "
+        "when their stencils inverted during it)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
         ok ? "converged" : "FAILED", rep.iterations,
-        rep.residual_history.empty() ? NAN : rep.residual_history.back());
+        rep.residual_history.empty() ? NAN : rep.residual_history.back(), during, during_points);
     if (!ok) {
       log::warn(
           "rupture pass {} at t = {:.6g}: Newton cannot re-equilibrate after {} bonds broke "
@@ -244,13 +343,15 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
           "adaptive dynamic relaxation",
           pass_no, solver.load_factor(), p.broken, fmt::join(rep.residual_history, " "));
       StepReport adr;
+      during = during_points = 0;
       const bool relaxed = solver.relax(opt_.relaxation_tolerance, opt_.relaxation_iterations, adr);
       StepReport polish;
       const bool polished = relaxed && solver.reequilibrate(polish);
       log::info(
-          "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}); Newton polish: "
+          "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}; {} bonds broke "
+          "and {} point stencils went off when their stencils inverted); Newton polish: "
           "{} ({} iterations, residual {:.3e})",
-          relaxed ? "converged" : "FAILED", adr.iterations, adr.residual,
+          relaxed ? "converged" : "FAILED", adr.iterations, adr.residual, during, during_points,
           polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
           polish.residual_history.empty() ? NAN : polish.residual_history.back());
       if (!polished)

@@ -94,6 +94,28 @@ rupture: {criterion: bond_stretch, critical: 1.15}
 output: {checkpoint_every: 1}
 Y
 run_case rupture rup.yaml reactions.csv 2
+# dynamic fracture (inertia + rupture): bonds break before and after the checkpoint; the
+# broken pairs, the switched-off point stencils and the (shrunk) time step are restored
+cat > dynrup.yaml <<'Y'
+dimension: 2
+plane: stress
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 1.0], spacing: 0.1,
+           cracks: [{from: [0.0, 0.5], to: [0.3, 0.5]}]}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 100.0, density: 1.0}
+boundary:
+  - {name: bottom, region: {y_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: top,    region: {y_min: 1.0}, displacement: {x: 0.0, y: "0.15*(t - 0.5*(1 - exp(-t/0.5)))"}}
+effects: [inertia, rupture]
+inertia: {end_time: 4.0}
+rupture: {criterion: bond_stretch, critical: 1.15}
+output: {every: 10, checkpoint_every: 15}
+Y
+run_case dynrup dynrup.yaml series.csv 31
+b_cut=$(awk -F, 'NR > 1 && $1 == 30 {print $NF}' dynrup.full/series.csv)
+b_end=$(tail -1 dynrup.full/series.csv | awk -F, '{print $NF}')
+if [ "${b_cut:-0}" -gt 0 ] && [ "$b_end" -gt "$b_cut" ]; then echo "ok   dynrup: $b_cut bonds broken at the checkpoint, $b_end at the end"; else echo "FAIL dynrup: bonds broken $b_cut at the checkpoint, $b_end at the end (want 0 < cut < end)"; fail=1; fi
+out=$("$pdcg" run dynrup.yaml -o progress.dynrup 2>&1)
+if grep -Eq "steps [0-9]+/[0-9]+ .*t = 4, $b_end bonds broken" <<<"$out"; then echo "ok   progress (dynamic fracture)"; else echo "FAIL progress (dynamic fracture): $out" | tail -3; fail=1; fi
 # a restart needs a checkpoint of the same scene
 out=$("$pdcg" run dyn.yaml --restart rupture.cut 2>&1); code=$?
 if [ $code = 2 ] && grep -q "another scene" <<<"$out"; then echo "ok   other scene refused"; else echo "FAIL other scene: exit $code: $out"; fail=1; fi

@@ -105,6 +105,8 @@ int main(int argc, char** argv) {
       mode.c_str(), n, D.size(), directed, stencils, steps, iterations, run_s / steps,
       run_s / std::max(1, iterations), stagger_s / steps,
       D.rupture_enabled() ? D.broken_bonds() : 0, M.anchors().size(), broken_bytes,
-      suppressed_bytes, rupture ? 2 * directed * sizeof(double) : std::size_t{0}, peak_rss_mb());
+      // criterion values: one double per directed bond, allocated at the first check and
+      // kept (since the dynamic-fracture work; before: two per bond at every pass)
+      suppressed_bytes, rupture ? directed * sizeof(double) : std::size_t{0}, peak_rss_mb());
   return 0;
 }

@@ -56,7 +56,7 @@ for c, ref in (("elastic", "elastic"), ("rupture", "elastic"), ("breaking", "ela
     arrays = "-" if "broken_flags_bytes" not in r else (
         "none" if r["broken_flags_bytes"] == "0" else
         f"broken {r['broken_flags_bytes']} + ill-posed {r['illposed_flags_bytes']} "
-        f"(+ {r['criterion_values_bytes_per_pass']} per pass, freed)")
+        f"+ criterion {r['criterion_values_bytes_per_pass']} (kept)")
     print(f"| {c} | {t(c):.3f} | {t(c, st.median):.3f} | {t(c) / t(ref):.3f} | "
           f"{r.get('newton_iterations', '-')} | {r.get('broken_bonds', '-')} | {arrays} |")
 if "rupture" in cases:

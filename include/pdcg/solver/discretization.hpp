@@ -160,6 +160,15 @@ class Discretization {
   /// Returns the number of stencils rebuilt.
   /// min_reciprocal_condition > 0 replaces the build option for the rebuilt stencils.
   std::size_t rebuild_broken(double min_reciprocal_condition = 0.0);
+  /// Centres whose stencils the last rebuild_broken call rebuilt (sorted).
+  const std::vector<int>& last_rebuilt_centres() const { return rebuilt_centres_; }
+  /// Switches the point stencil of k off for good (G = 0, also through later rebuilds):
+  /// its F̄_k became inadmissible (J ≤ 0) at a crack, so the weak-form correction
+  /// P(F̄_k) e_k of that point is dropped (P(I) = 0). Returns false if it already was.
+  bool suppress_point_stencil(int k);
+  bool point_stencil_suppressed(int k) const { return !point_off_.empty() && point_off_[k]; }
+  /// Points whose point stencil is off (checkpoints).
+  std::vector<int> suppressed_point_stencils() const;
   /// Broken fraction of the reference family of each point, in [0, 1].
   std::vector<double> damage() const;
   /// Number of broken (undirected) bonds.
@@ -182,7 +191,9 @@ class Discretization {
   DiscretizationOptions opt_;
   std::vector<char> broken_;      // per directed bond
   std::vector<char> suppressed_;  // per bond stencil: ill-posed, weight 0
+  std::vector<char> point_off_;   // per point: point stencil switched off (inverted)
   std::vector<int> dirty_;        // points whose stencils need a rebuild
+  std::vector<int> rebuilt_centres_;
   std::size_t n_broken_ = 0, n_suppressed_ = 0;
 };
 

@@ -18,6 +18,16 @@
 ///   Δt_crit = 2 / √(max_k Σ_n |K_kn| / M_k)
 /// is a safe (conservative) bound; Δt = safety · Δt_crit. K is the consistent tangent at the
 /// current state (at u = 0 unless re-estimated).
+///
+/// Dynamic fracture (attach_rupture, docs/effects.md §3c): after every check_every-th step
+/// the rupture criterion is evaluated on the intact bonds at u_{n+1}; bonds past it break,
+/// the touched stencils are rebuilt locally (Rupture::break_exceeding), and f, a are
+/// recomputed at u_{n+1} with the new stencils (v_{n+1} is kept: breaking changes forces,
+/// not positions or velocities). The stable step is re-estimated on the rows the rebuilt
+/// stencils touch (Gershgorin at u_{n+1}); if safety·Δt_crit,local < Δt, or the step was
+/// shrunk before, the Gershgorin bound of the whole tangent at u_{n+1} sets the step:
+/// Δt = min(Δt_nominal, safety·Δt_crit) (it shrinks, and grows back when a transient that
+/// shrank it is gone).
 #pragma once
 
 #include <Eigen/Core>
@@ -25,6 +35,7 @@
 
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
+#include "pdcg/solver/rupture.hpp"
 
 namespace pdcg::solver {
 
@@ -54,16 +65,25 @@ class ExplicitSolver {
   /// Throws InputError if time_step exceeds the stable limit (naming both).
   ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
                  ExplicitOptions options);
+  /// With nominal tractions t*(t) on point sets, t the time: the external force
+  /// f_ext,k = t*(t) dS_k, dS_k = max(0, s_k · n̂) (n̂ the mean outward normal of the set;
+  /// the same face areas as the static solver) enters M a = f_ext(t) − f(u). No traction
+  /// set: nothing is allocated or evaluated for them.
+  ExplicitSolver(const Model& model, std::vector<DisplacementSet> displacement,
+                 std::vector<TractionSet> traction, ExplicitOptions options);
 
   /// Gershgorin bound Δt_crit = 2/√(max_k Σ_n |K_kn|/M_k) at displacement u.
   double critical_time_step(const Eigen::VectorXd& u) const;
-  /// The limit computed at construction (at u = 0).
+  /// The stable limit: at construction (u = 0), then the last full re-estimate after bonds
+  /// broke (dynamic fracture).
   double stable_limit() const { return crit_; }
   double time_step() const { return dt_; }
   /// Shortens the step (e.g. to end exactly at a given time); never above the current one.
   void shorten_time_step(double dt) {
     if (dt > 0 && dt <= dt_) dt_ = dt;
   }
+  /// The step at construction (the cap when a shrunk step grows back).
+  double nominal_time_step() const { return dt_nominal_; }
   double time() const { return t_; }
   void set_velocity(const Eigen::VectorXd& v) { v_ = v; }
   void set_displacement(const Eigen::VectorXd& u);
@@ -83,16 +103,34 @@ class ExplicitSolver {
   const Eigen::VectorXd& internal_force() const { return f_; }
   /// Σ f_int over the points of displacement set i (the force the constraint exerts, negated).
   Vec3 reaction(std::size_t set) const;
+  /// Σ f_ext over the points of traction set i at the current time (its resultant).
+  Vec3 traction_force(std::size_t set) const;
   /// Current damping coefficient (viscous: fixed; adaptive: c_n of the last step).
   double damping_coefficient() const { return c_; }
+
+  /// Dynamic fracture: check the rupture criterion after every r.options().check_every-th
+  /// step (see the file comment). The rupture must be built on the model's body with
+  /// anchor_detached = false. Without it, step() does no rupture work at all.
+  void attach_rupture(Rupture* r);
+  /// The break event of the last step (zero counts if nothing broke or not checked).
+  const RupturePass& last_rupture() const { return last_pass_; }
+  /// Number of steps taken (restored with the state).
+  long steps_taken() const { return n_steps_; }
+  /// Recomputes f and a at the current u (after the model changed, e.g. bonds broke).
+  void refresh_force() { compute_acceleration(t_); }
+  /// Gershgorin bound 2/√(max Σ_n |K_kn|/M_k) over the rows of the given points only.
+  double critical_time_step_local(const Eigen::VectorXd& u, const std::vector<int>& points) const;
 
   /// Complete state after a step (for checkpoints): restoring it and stepping on gives
   /// bitwise the same trajectory as never stopping.
   struct State {
     Eigen::VectorXd u, v, a, f, f_prev;
     double t = 0.0, c = 0.0;
+    double dt = 0.0;    ///< the current step (0: keep; shrinks after rebuilds)
+    double crit = 0.0;  ///< the current stable limit (0: keep)
+    long steps = 0;     ///< steps taken
   };
-  State state() const { return {u_, v_, a_, f_, f_prev_, t_, c_}; }
+  State state() const { return {u_, v_, a_, f_, f_prev_, t_, c_, dt_, crit_, n_steps_}; }
   void restore(const State& s);
 
  private:
@@ -103,9 +141,19 @@ class ExplicitSolver {
   std::vector<DisplacementSet> dsets_;
   ExplicitOptions opt_;
   std::vector<int> prescribed_;  // dof -> (set << 2 | comp) or −1
+  std::vector<TractionSet> tsets_;
+  std::vector<std::vector<double>> traction_area_;
+  void add_external_force(double t);  // a_ += M⁻¹ f_ext(t) on free dofs
   void update_adaptive_damping();
   Eigen::VectorXd m_, u_, v_, a_, f_, f_prev_;
-  double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0;
+  double dt_ = 0.0, t_ = 0.0, crit_ = 0.0, c_ = 0.0, dt_nominal_ = 0.0;
+  void rupture_check();
+  void after_break();  // force and stable-step update after last_pass_ broke bonds
+  Rupture* rupture_ = nullptr;
+  RupturePass last_pass_;
+  long n_steps_ = 0;
+  std::vector<char> skip_col_;  // prescribed dofs (Gershgorin columns skipped)
+  std::vector<char> row_mark_;  // scratch for the local re-estimate
 };
 
 }  // namespace pdcg::solver

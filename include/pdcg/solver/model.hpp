@@ -81,6 +81,15 @@ class Model {
   /// b_k = Σ_S w_S G_S^k.
   const std::vector<Vec3>& smeared_normals() const { return smeared_; }
 
+  /// Gershgorin row sums of the tangent at u for the rows of the given points:
+  /// sums[d·i + a] = Σ_n |K_(d·points[i]+a),n| over the columns n with skip_column[n] == 0
+  /// (skip_column empty: all columns). The same entries as internal_force_and_tangent, built
+  /// row by row without assembling K (explicit dynamics re-estimates the stable step on the
+  /// rows that rebuilt stencils touch; allocates, not for per-step use). False if some F
+  /// is inadmissible.
+  bool tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int>& points,
+                            const std::vector<char>& skip_column, std::vector<double>& sums) const;
+
   /// Rupture only: points that no stencil couples any more (every stencil that
   /// held them is broken or ill-posed) would leave zero rows in K. They are
   /// parked at their displacement u⁰ at the moment they were cut loose by a

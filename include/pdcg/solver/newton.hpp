@@ -105,6 +105,13 @@ class StaticSolver {
   /// Newton polishes). Returns false (state restored) after max_iterations.
   bool relax(double tol, int max_iterations, StepReport& rep);
 
+  /// Called when Newton's accepted state or an ADR iterate is inadmissible (some F with
+  /// J ≤ 0): it may change the model there (rupture: break the inverted stencils) and
+  /// returns true if it did, and the solve goes on from that state with the new model.
+  /// Empty (default): J ≤ 0 fails the Newton solve / steps ADR back.
+  using InadmissibleHandler = std::function<bool(const Eigen::VectorXd& u)>;
+  void set_inadmissible_handler(InadmissibleHandler h) { inadmissible_ = std::move(h); }
+
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
   int step() const { return step_; }
@@ -142,6 +149,7 @@ class StaticSolver {
   std::vector<std::int64_t> red_map_;
   struct Solvers;
   std::shared_ptr<Solvers> solvers_;
+  InadmissibleHandler inadmissible_;
 };
 
 }  // namespace pdcg::solver

@@ -44,6 +44,12 @@ struct RuptureOptions {
   /// and turn tiny displacements into J ≤ 0 (measured on the pre-cracked sheet).
   double min_reciprocal_condition = 1e-3;
   int relaxation_iterations = 50000;
+  /// Quasi-static runs park points that no stencil couples any more with a spring (else
+  /// K has zero rows); explicit dynamics does not: a detached point carries no force and
+  /// moves on with its velocity (a fragment), so no anchors (false).
+  bool anchor_detached = true;
+  /// Explicit dynamics: evaluate the criterion every check_every time steps (1 = each).
+  int check_every = 1;
 };
 
 struct RupturePass {
@@ -52,6 +58,8 @@ struct RupturePass {
   std::size_t rebuilt = 0;   ///< stencils rebuilt
   std::size_t anchored = 0;  ///< points no stencil couples any more
   std::size_t inverted = 0;  ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
+  /// weak-form point stencils switched off because F̄_k was inverted (J ≤ 0)
+  std::size_t point_stencils_off = 0;
 };
 
 class Rupture {
@@ -64,8 +72,19 @@ class Rupture {
   /// same value; broken bonds −∞).
   std::vector<double> criterion_values(const Eigen::VectorXd& u) const;
   /// Breaks every intact bond whose criterion exceeds the critical value, rebuilds
-  /// the stencils, and parks points that nothing couples any more (Model::set_anchors).
+  /// the stencils, and parks points that nothing couples any more (Model::set_anchors,
+  /// when options().anchor_detached). The criterion goes into a scratch array allocated
+  /// at the first call (one double per directed bond): a check that breaks nothing
+  /// allocates nothing (the per-step check of explicit dynamics).
   RupturePass break_exceeding(const Eigen::VectorXd& u);
+  /// Centres of the stencils the last break_exceeding rebuilt (sorted; empty if it broke
+  /// nothing).
+  const std::vector<int>& rebuilt_centres() const { return all_rebuilt_; }
+  /// Breaks every intact bond whose BA stencil is inadmissible (J ≤ 0) at u, rebuilds, and
+  /// repeats until every intact stencil is admissible (the material cannot be evaluated
+  /// there: the bond counts as past every criterion). For solvers that meet J ≤ 0 during
+  /// a step or an iteration (explicit dynamics, ADR). Returns the pass (broken = inverted).
+  RupturePass break_inadmissible(const Eigen::VectorXd& u);
   /// Staggered re-equilibration at the current load: break, re-solve, repeat until no
   /// bond breaks. Returns the number of bonds broken. Throws NumericalError if the
   /// re-solve fails (unstable crack growth) or max_passes is exceeded.
@@ -80,15 +99,24 @@ class Rupture {
   /// Checkpoint restart: breaks the given pairs on the intact body, rebuilds every touched
   /// stencil (a pure function of the broken set) and sets the anchors as they were saved.
   void restore(const std::vector<std::int64_t>& pairs, std::vector<int> anchor_points,
-               std::vector<double> anchor_targets);
+               std::vector<double> anchor_targets,
+               const std::vector<std::int64_t>& point_stencils_off = {});
   std::vector<double> damage() const { return body_->damage(); }
 
  private:
   void update_anchors(const Eigen::VectorXd& u);
   /// Breaks every intact bond whose (rebuilt) BA stencil gives an inadmissible F (J ≤ 0)
-  /// at u; returns how many.
-  std::size_t break_inverted(const Eigen::VectorXd& u);
+  /// at u; returns how many. Weak-form point stencils (points with a boundary defect
+  /// e_k ≠ 0) whose F̄_k is inadmissible are switched off (counted in *points_off).
+  /// centres non-null: only the stencils centred there (after a rebuild, the only ones
+  /// that can have become inadmissible at a u where all others were admissible).
+  std::size_t break_inverted(const Eigen::VectorXd& u, std::size_t* points_off = nullptr,
+                             const std::vector<int>* centres = nullptr);
+  /// Directed criterion values into dir_ (−∞ for broken bonds); returns their maximum.
+  double evaluate_directed(const Eigen::VectorXd& u) const;
   Discretization* body_;
+  mutable std::vector<double> dir_;  // scratch: criterion per directed bond
+  std::vector<int> all_rebuilt_;
   Model* model_;
   RuptureOptions opt_;
   double anchor_stiffness_ = 0.0;

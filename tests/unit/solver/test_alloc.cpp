@@ -13,6 +13,7 @@
 
 #include "pdcg/solver/discretization.hpp"
 #include "pdcg/solver/model.hpp"
+#include "pdcg/solver/rupture.hpp"
 
 extern "C" void* __libc_malloc(std::size_t);
 extern "C" void* __libc_calloc(std::size_t, std::size_t);
@@ -147,4 +148,36 @@ TEST(Allocation, ResidualAndTangentPlaneStressWeak) { check(2, Kinematics::plane
 TEST(Allocation, ResidualAndTangent3DWeak) { check(3, Kinematics::three_d, {}); }
 TEST(Allocation, ResidualAndTangentClassicalEnergy) {
   check(2, Kinematics::plane_strain, {Correspondence::classical, BoundaryForm::energy});
+}
+
+// Dynamic fracture checks the criterion after every time step: a check that breaks nothing
+// allocates nothing (the criterion goes into a scratch array sized at the first call).
+TEST(Allocation, RuptureCheckWithoutBreaksAllocatesNothing) {
+  GridSpec g;
+  g.spacing = 1.0 / 16;
+  g.cracks.push_back({Vec3(0.0, 0.5, 0), Vec3(0.3, 0.5, 0)});
+  auto D = Discretization::grid(g);
+  const auto mat = make_neo_hookean({1.0, 100.0}, Kinematics::plane_stress);
+  Model M(D, *mat, {});
+  for (auto crit : {RuptureCriterion::bond_stretch, RuptureCriterion::principal_stretch,
+                    RuptureCriterion::energy_density}) {
+    RuptureOptions ro;
+    ro.criterion = crit;
+    ro.critical = crit == RuptureCriterion::energy_density ? 10.0 : 3.0;  // never reached
+    ro.anchor_detached = false;
+    Rupture R(D, M, ro);
+    Eigen::VectorXd u(M.dofs());
+    for (std::size_t i = 0; i < D.size(); ++i) {
+      u[2 * i] = 0.0;
+      u[2 * i + 1] = 0.05 * D.positions()[i].y();
+    }
+    R.break_exceeding(u);  // sizes the scratch
+    for (int rep = 0; rep < 3; ++rep) {
+      RupturePass p;
+      const Counts c = count([&] { p = R.break_exceeding(u); });
+      EXPECT_EQ(p.broken, 0u);
+      EXPECT_EQ(c.news, 0) << "operator new calls in a rupture check without breaks";
+      EXPECT_EQ(c.mallocs, 0) << "malloc calls in a rupture check without breaks";
+    }
+  }
 }
