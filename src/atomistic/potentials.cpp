@@ -519,6 +519,23 @@ bool types_out_of_range(const FamilyState& f, int ntypes, double* t) {
   return bad;
 }
 
+// The vector LJ kernel (PairModel::half_pair_simd) is compiled for AVX2 + FMA either by the
+// build's own -march (PDCG_NATIVE / PDCG_ARCH) or, in the portable default build on x86-64 with
+// GCC/Clang, as a function with target("avx2,fma") chosen at run time when the CPU has both
+// (function multiversioning by hand). Other CPUs take the scalar loop; results agree to
+// round-off (FMA contraction), well inside the 1e-13 of the dynamics tests.
+#if !defined(__AVX2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define PDCG_AVX2_DISPATCH 1
+#define PDCG_TARGET_AVX2 __attribute__((target("avx2,fma")))
+inline bool cpu_has_avx2_fma() {
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return has;
+}
+#else
+#define PDCG_TARGET_AVX2
+constexpr bool cpu_has_avx2_fma() { return true; }
+#endif
+
 template <class Law>
 class PairModel final : public Potential {
  public:
@@ -539,8 +556,8 @@ class PairModel final : public Potential {
                           double* f) const override {
     // one type and no special factors (the common case) hoist the coefficient lookup and the
     // factor test out of the pair loop
-#if defined(__AVX2__)
-    if (std::is_same_v<Law, LJCut> && ntypes_ == 1 && !h.factor)
+#if defined(__AVX2__) || defined(PDCG_AVX2_DISPATCH)
+    if (std::is_same_v<Law, LJCut> && ntypes_ == 1 && !h.factor && cpu_has_avx2_fma())
       return h.energy ? half_pair_simd<true>(h, k0, k1, y, f)
                       : half_pair_simd<false>(h, k0, k1, y, f);
 #endif
@@ -563,7 +580,7 @@ class PairModel final : public Potential {
   /// images). Same operations per bond as the scalar loop, so the same forces; bonds beyond
   /// the cutoff (the families' skin) cost the law's arithmetic but no branch.
   template <bool kEnergy>
-  double half_pair_simd(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
+  PDCG_TARGET_AVX2 double half_pair_simd(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
                         double* f) const {
     constexpr std::int64_t kChunk = 64;
     alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk], te[kChunk];
