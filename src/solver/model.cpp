@@ -28,6 +28,38 @@ int thread_id() {
   return 0;
 #endif
 }
+int team_size() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
+// F_S − I = Σ_{m∈S} u_m ⊗ G_S^m for stencil s, dimension D known at compile time (the
+// d×d accumulator stays in registers; members are contiguous: index[r], grad[D r …]).
+template <int D>
+inline void gradient_sum(const Stencils& S, std::size_t s, const double* u, double (&F)[D][D]) {
+  for (int a = 0; a < D; ++a)
+    for (int J = 0; J < D; ++J) F[a][J] = 0.0;
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+    const double* um = u + static_cast<std::int64_t>(D) * idx[r];
+    const double* g = grad + r * D;
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) F[a][J] += um[a] * g[J];
+  }
+}
+template <int D>
+inline Mat3 gradient_of(const Stencils& S, std::size_t s, const double* u) {
+  double F[D][D];
+  gradient_sum<D>(S, s, u, F);
+  Mat3 out = Mat3::Identity();
+  for (int a = 0; a < D; ++a)
+    for (int J = 0; J < D; ++J) out(a, J) += F[a][J];
+  return out;
+}
 }  // namespace
 
 Model::Model(const Discretization& body, const Material& material, ModelOptions options)
@@ -56,7 +88,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   // Smeared normals b_k and the weak-form defect e_k = b_k − s_k.
   smeared_.assign(N, Vec3::Zero());
   defect_.assign(N, Vec3::Zero());
-  weak_row_.assign(N, 0);
+  std::vector<char> weak(N, 0);
   const double area = std::pow(body.spacing(), d_ - 1);
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < N; ++k) {
@@ -72,10 +104,17 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
       // |e| below round-off of the sums (interior points): no correction row.
       if (e.norm() > 1e-10 * area) {
         defect_[k] = e;
-        weak_row_[k] = 1;
+        weak[k] = 1;
       }
     }
   }
+  weak_id_.assign(N, -1);
+  for (std::size_t k = 0; k < N; ++k)
+    if (weak[k]) {
+      weak_id_[k] = static_cast<int>(weak_points_.size());
+      weak_points_.push_back(static_cast<int>(k));
+    }
+  weak_points_.shrink_to_fit();
   // Matrix pattern: pairs of points sharing an energy stencil, plus weak rows.
   const Stencils& Pst = body.point_stencils();
   std::vector<std::vector<int>> adj(N);
@@ -96,7 +135,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
         const int s = member_of_.index[q];
         for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) add(S.index[r]);
       }
-      if (weak_row_[k])
+      if (weak_id_[k] >= 0)
         for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) add(Pst.index[r]);
       std::sort(a.begin(), a.end());
     }
@@ -128,26 +167,19 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
 }
 
 Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u) const {
-  Mat3 F = Mat3::Identity();
-  for (auto q = S.offsets[s]; q < S.offsets[s + 1]; ++q) {
-    const int m = S.index[q];
-    const double* g = S.grad.data() + q * d_;
-    for (int a = 0; a < d_; ++a)
-      for (int J = 0; J < d_; ++J) F(a, J) += u[d_ * m + a] * g[J];
-  }
-  return F;
+  return d_ == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
 }
 
 bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
   const Stencils& S = *energy_;
-  const std::size_t ns = S.size(), N = body_->size();
+  const std::size_t ns = S.size();
   const int d = d_, d2 = d * d, d4 = d2 * d2;
   Ps_.resize(ns);
   if (tangent) Ac_.resize(ns * static_cast<std::size_t>(d4));
   std::atomic<bool> ok{true};
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < ns; ++s) {
-    const Mat3 F = stencil_gradient(S, s, u);
+    const Mat3 F = d == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
     if (!tangent) {
       if (!material_->evaluate(F, nullptr, &Ps_[s], nullptr)) ok = false;
       continue;
@@ -162,16 +194,19 @@ bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
         for (int b = 0; b < d; ++b)
           for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
   }
-  if (opt_.boundary == BoundaryForm::weak) {
-    Pbar_.resize(N);
-    if (tangent) Abar_.resize(N);
-    const Stencils& Pst = body_->point_stencils();
-#pragma omp parallel for schedule(static)
-    for (std::size_t k = 0; k < N; ++k) {
-      if (!weak_row_[k]) continue;
-      const Mat3 F = stencil_gradient(Pst, k, u);
-      if (!material_->evaluate(F, nullptr, &Pbar_[k], tangent ? &Abar_[k] : nullptr)) ok = false;
-    }
+  return ok && evaluate_weak_rows(u, tangent);
+}
+
+bool Model::evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const {
+  const std::size_t nw = weak_points_.size();
+  Pbar_.resize(nw);
+  if (tangent) Abar_.resize(nw);
+  const Stencils& Pst = body_->point_stencils();
+  bool ok = true;
+#pragma omp parallel for schedule(static) reduction(&& : ok)
+  for (std::size_t w = 0; w < nw; ++w) {
+    const Mat3 F = stencil_gradient(Pst, static_cast<std::size_t>(weak_points_[w]), u);
+    if (!material_->evaluate(F, nullptr, &Pbar_[w], tangent ? &Abar_[w] : nullptr)) ok = false;
   }
   return ok;
 }
@@ -194,26 +229,79 @@ double Model::energy(const Eigen::VectorXd& u) const {
   return ok ? e : std::numeric_limits<double>::quiet_NaN();
 }
 
-bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
-  if (!evaluate_stencils(u, false)) return false;
+// Residual, fused per stencil (issue 10 §2; docs/performance.md "BA kernels"): one pass
+// over the BA stencils reads each stencil's members and G once, gathers F_S, evaluates
+// P(F_S) and scatters f_m += w_S P_S G_S^m while the stencil is in L1. Threads own
+// contiguous stencil ranges (static schedule) and accumulate into private force arrays
+// (thread 0 into f), summed in a fixed order afterwards: no atomics, no false sharing,
+// deterministic for a given thread count. The stencil data stream from memory exactly once
+// (4 + 8d bytes per term), the minimum; no per-stencil stress is stored.
+template <int D>
+bool Model::residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
   const Stencils& S = *energy_;
-  const std::size_t N = body_->size();
-  f.setZero(dofs());
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < N; ++k) {
-    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
-      const int s = member_of_.index[q];
-      const double* g = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d_;
-      const Mat3& P = Ps_[s];
-      for (int a = 0; a < d_; ++a) {
-        double v = 0;
-        for (int J = 0; J < d_; ++J) v += P(a, J) * g[J];
-        f[d_ * k + a] += S.weight[s] * v;
+  const std::size_t ns = S.size(), ndof = dofs();
+  const auto nextra = static_cast<std::size_t>(std::max(0, max_threads() - 1));
+  if (fbuf_.size() < nextra) fbuf_.resize(nextra);
+  for (std::size_t t = 0; t < nextra; ++t)
+    if (fbuf_[t].size() != ndof) fbuf_[t].assign(ndof, 0.0);
+  const double* ud = u.data();
+  double* fd = f.data();
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  const std::int64_t* off = S.offsets.data();
+  const double* weight = S.weight.data();
+  bool ok = true;
+#pragma omp parallel reduction(&& : ok)
+  {
+    const int t = thread_id(), nt = team_size();
+    double* ft = t == 0 ? fd : fbuf_[static_cast<std::size_t>(t - 1)].data();
+    if (t > 0) std::fill(ft, ft + ndof, 0.0);
+#pragma omp for schedule(static)
+    for (std::size_t s = 0; s < ns; ++s) {
+      double G[D][D];
+      gradient_sum<D>(S, s, ud, G);
+      Mat3 F = Mat3::Identity(), P;
+      for (int a = 0; a < D; ++a)
+        for (int J = 0; J < D; ++J) F(a, J) += G[a][J];
+      if (!material_->evaluate(F, nullptr, &P, nullptr)) {
+        ok = false;
+        continue;
+      }
+      double wP[D][D];
+      for (int a = 0; a < D; ++a)
+        for (int J = 0; J < D; ++J) wP[a][J] = weight[s] * P(a, J);
+      for (auto r = off[s]; r < off[s + 1]; ++r) {
+        double* fm = ft + static_cast<std::int64_t>(D) * idx[r];
+        const double* g = grad + r * D;
+        for (int a = 0; a < D; ++a) {
+          double v = 0.0;
+          for (int J = 0; J < D; ++J) v += wP[a][J] * g[J];
+          fm[a] += v;
+        }
+      }
+    }  // implicit barrier: all private arrays complete
+    if (nt > 1) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < ndof; ++i) {
+        double v = fd[i];
+        for (int q = 1; q < nt; ++q) v += fbuf_[static_cast<std::size_t>(q - 1)][i];
+        fd[i] = v;
       }
     }
-    if (weak_row_[k])
-      for (int a = 0; a < d_; ++a)
-        for (int J = 0; J < d_; ++J) f[d_ * k + a] -= Pbar_[k](a, J) * defect_[k](J);
+  }
+  return ok;
+}
+
+bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  f.setZero(dofs());
+  const bool ok = d_ == 2 ? residual_kernel<2>(u, f) : residual_kernel<3>(u, f);
+  if (!ok || !evaluate_weak_rows(u, false)) return false;
+  const std::size_t nw = weak_points_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t w = 0; w < nw; ++w) {
+    const auto k = static_cast<std::size_t>(weak_points_[w]);
+    for (int a = 0; a < d_; ++a)
+      for (int J = 0; J < d_; ++J) f[d_ * k + a] -= Pbar_[w](a, J) * defect_[k](J);
   }
   if (!anchor_points_.empty()) add_anchors(u, f, nullptr);
   return true;
@@ -293,11 +381,11 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
         }
       }
       for (int a = 0; a < D; ++a) f[D * k + a] = fk[a];
-      if (weak_row_[k]) {
+      if (const int w = weak_id_[k]; w >= 0) {
         const Vec3& e = defect_[k];
-        const Tangent& A = Abar_[k];
+        const Tangent& A = Abar_[w];
         for (int a = 0; a < D; ++a) {
-          for (int J = 0; J < D; ++J) f[D * k + a] -= Pbar_[k](a, J) * e(J);
+          for (int J = 0; J < D; ++J) f[D * k + a] -= Pbar_[w](a, J) * e(J);
           for (int b = 0; b < D; ++b)
             for (int L = 0; L < D; ++L) {
               double t = 0;

@@ -93,6 +93,9 @@ class Model {
  private:
   Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;
   bool evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const;
+  bool evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const;
+  template <int D>
+  bool residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   template <int D>
   void assemble_rows(Eigen::VectorXd& f, SparseRow& K) const;
 
@@ -105,15 +108,20 @@ class Model {
   Csr member_of_;
   std::vector<int> member_pos_;
   std::vector<Vec3> smeared_, defect_;
-  std::vector<char> weak_row_;
+  // Weak-form correction rows: weak_id_[k] = position of point k in weak_points_ (and in
+  // Pbar_/Abar_), −1 for interior points (no correction).
+  std::vector<int> weak_id_;
+  std::vector<int> weak_points_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   Csr adjacency_;
   SparseRow pattern_;
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
-  mutable std::vector<double> Ac_;  // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
-  mutable std::vector<Mat3> Pbar_;
-  mutable std::vector<Tangent> Abar_;
+  mutable std::vector<double> Ac_;     // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
+  mutable std::vector<Mat3> Pbar_;     // per weak row
+  mutable std::vector<Tangent> Abar_;  // per weak row
+  // Residual: per-thread force accumulators for threads 1… (thread 0 writes into f).
+  mutable std::vector<std::vector<double>> fbuf_;
   mutable std::vector<std::vector<int>> slot_;  // per thread: column slot of each point
   std::vector<int> anchor_points_;
   std::vector<double> anchor_u_;  // d per anchored point
