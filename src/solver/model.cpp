@@ -60,6 +60,58 @@ inline Mat3 gradient_of(const Stencils& S, std::size_t s, const double* u) {
     for (int J = 0; J < D; ++J) out(a, J) += F[a][J];
   return out;
 }
+
+// The fused residual sweep over stencils [s0, s1): gather F_S, P(F_S), scatter
+// f_m += w_S P_S G_S^m into f (a thread's private array). Compiled twice (target_clones):
+// for the baseline x86-64 and for x86-64-v3 (AVX2 + FMA), picked at load time by the CPU;
+// the FMA version rounds differently (contractions), within round-off of the other.
+template <int D>
+[[gnu::always_inline]] inline bool stencil_sweep(const Stencils& S, std::size_t s0, std::size_t s1,
+                                                 const double* u, double* f,
+                                                 const Material& material) {
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  const std::int64_t* off = S.offsets.data();
+  const double* weight = S.weight.data();
+  bool ok = true;
+  for (std::size_t s = s0; s < s1; ++s) {
+    double G[D][D];
+    gradient_sum<D>(S, s, u, G);
+    Mat3 F = Mat3::Identity(), P;
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) F(a, J) += G[a][J];
+    if (!material.evaluate(F, nullptr, &P, nullptr)) {
+      ok = false;
+      continue;
+    }
+    double wP[D][D];
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) wP[a][J] = weight[s] * P(a, J);
+    for (auto r = off[s]; r < off[s + 1]; ++r) {
+      double* fm = f + static_cast<std::int64_t>(D) * idx[r];
+      const double* g = grad + r * D;
+      for (int a = 0; a < D; ++a) {
+        double v = 0.0;
+        for (int J = 0; J < D; ++J) v += wP[a][J] * g[J];
+        fm[a] += v;
+      }
+    }
+  }
+  return ok;
+}
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PDCG_SWEEP_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
+#else
+#define PDCG_SWEEP_CLONES
+#endif
+PDCG_SWEEP_CLONES bool stencil_sweep_2d(const Stencils& S, std::size_t s0, std::size_t s1,
+                                        const double* u, double* f, const Material& m) {
+  return stencil_sweep<2>(S, s0, s1, u, f, m);
+}
+PDCG_SWEEP_CLONES bool stencil_sweep_3d(const Stencils& S, std::size_t s0, std::size_t s1,
+                                        const double* u, double* f, const Material& m) {
+  return stencil_sweep<3>(S, s0, s1, u, f, m);
+}
 }  // namespace
 
 Model::Model(const Discretization& body, const Material& material, ModelOptions options)
@@ -146,14 +198,21 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   adjacency_.index.reserve(adjacency_.offsets[N]);
   for (auto& a : adj) adjacency_.index.insert(adjacency_.index.end(), a.begin(), a.end());
   adj.clear();
+  adjacency_.index.shrink_to_fit();
+  slot_.assign(static_cast<std::size_t>(max_threads()), std::vector<int>(N, -1));
+}
+
+// The matrix pattern is built into K itself on the first tangent call (no stored copy: the
+// pattern with its values is as large as K): row d·k+a holds the columns d·n+b, n ∈ adjacency(k).
+void Model::fill_pattern(SparseRow& K) const {
+  const std::size_t N = body_->size();
   const int n = static_cast<int>(dofs());
-  // Fill the compressed row storage directly (row d·k+a: columns d·n+b, n ∈ adjacency(k)).
-  pattern_.resize(n, n);
-  pattern_.makeCompressed();
+  K.resize(n, n);
+  K.makeCompressed();
   const std::int64_t nnz = static_cast<std::int64_t>(d_) * d_ * adjacency_.offsets[N];
-  pattern_.resizeNonZeros(nnz);
-  int* outer = pattern_.outerIndexPtr();
-  int* inner = pattern_.innerIndexPtr();
+  K.resizeNonZeros(nnz);
+  int* outer = K.outerIndexPtr();
+  int* inner = K.innerIndexPtr();
   std::int64_t pos = 0;
   for (std::size_t k = 0; k < N; ++k)
     for (int a = 0; a < d_; ++a) {
@@ -162,8 +221,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
         for (int b = 0; b < d_; ++b) inner[pos++] = d_ * adjacency_.index[q] + b;
     }
   outer[n] = static_cast<int>(pos);
-  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + nnz, 0.0);
-  slot_.assign(static_cast<std::size_t>(max_threads()), std::vector<int>(N, -1));
+  std::fill(K.valuePtr(), K.valuePtr() + nnz, 0.0);
 }
 
 Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u) const {
@@ -246,40 +304,18 @@ bool Model::residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const 
     if (fbuf_[t].size() != ndof) fbuf_[t].assign(ndof, 0.0);
   const double* ud = u.data();
   double* fd = f.data();
-  const int* idx = S.index.data();
-  const double* grad = S.grad.data();
-  const std::int64_t* off = S.offsets.data();
-  const double* weight = S.weight.data();
   bool ok = true;
 #pragma omp parallel reduction(&& : ok)
   {
     const int t = thread_id(), nt = team_size();
     double* ft = t == 0 ? fd : fbuf_[static_cast<std::size_t>(t - 1)].data();
     if (t > 0) std::fill(ft, ft + ndof, 0.0);
-#pragma omp for schedule(static)
-    for (std::size_t s = 0; s < ns; ++s) {
-      double G[D][D];
-      gradient_sum<D>(S, s, ud, G);
-      Mat3 F = Mat3::Identity(), P;
-      for (int a = 0; a < D; ++a)
-        for (int J = 0; J < D; ++J) F(a, J) += G[a][J];
-      if (!material_->evaluate(F, nullptr, &P, nullptr)) {
-        ok = false;
-        continue;
-      }
-      double wP[D][D];
-      for (int a = 0; a < D; ++a)
-        for (int J = 0; J < D; ++J) wP[a][J] = weight[s] * P(a, J);
-      for (auto r = off[s]; r < off[s + 1]; ++r) {
-        double* fm = ft + static_cast<std::int64_t>(D) * idx[r];
-        const double* g = grad + r * D;
-        for (int a = 0; a < D; ++a) {
-          double v = 0.0;
-          for (int J = 0; J < D; ++J) v += wP[a][J] * g[J];
-          fm[a] += v;
-        }
-      }
-    }  // implicit barrier: all private arrays complete
+    // Contiguous stencil range per thread (a static schedule).
+    const std::size_t s0 = ns * t / nt, s1 = ns * (t + 1) / nt;
+    if (!(D == 2 ? stencil_sweep_2d(S, s0, s1, ud, ft, *material_)
+                 : stencil_sweep_3d(S, s0, s1, ud, ft, *material_)))
+      ok = false;
+#pragma omp barrier
     if (nt > 1) {
 #pragma omp for schedule(static)
       for (std::size_t i = 0; i < ndof; ++i) {
@@ -412,7 +448,8 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
 bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
                                        SparseRow& K) const {
   if (!evaluate_stencils(u, true)) return false;
-  if (K.rows() != pattern_.rows() || K.nonZeros() != pattern_.nonZeros()) K = pattern_;
+  const auto nnz = static_cast<Eigen::Index>(d_) * d_ * adjacency_.offsets[body_->size()];
+  if (K.rows() != static_cast<Eigen::Index>(dofs()) || K.nonZeros() != nnz) fill_pattern(K);
   if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
   // More threads than at construction (omp_set_num_threads raised): one slot array each.
   if (slot_.size() < static_cast<std::size_t>(max_threads()))

@@ -67,7 +67,8 @@ class Model {
   double energy(const Eigen::VectorXd& u) const;
   /// Internal force f(u). Returns false if some F is inadmissible.
   bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
-  /// Internal force and its tangent K = ∂f/∂u (pattern fixed at construction).
+  /// Internal force and its tangent K = ∂f/∂u (K gets its pattern, fixed by the body, on the
+  /// first call; later calls refill its values in place).
   bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow& K) const;
 
   /// Point deformation gradients: weighted mean of the energy stencils centred
@@ -96,6 +97,7 @@ class Model {
   bool evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const;
   template <int D>
   bool residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
+  void fill_pattern(SparseRow& K) const;
   template <int D>
   void assemble_rows(Eigen::VectorXd& f, SparseRow& K) const;
 
@@ -114,7 +116,6 @@ class Model {
   std::vector<int> weak_points_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   Csr adjacency_;
-  SparseRow pattern_;
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
   mutable std::vector<double> Ac_;     // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
