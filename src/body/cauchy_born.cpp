@@ -76,6 +76,30 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     rep_weight_[it->second] += wk[k];
     nmax_ = std::max(nmax_, fam.offset[k + 1] - fam.offset[k]);
   }
+  // per-point class lists (point_sum)
+  std::map<std::int32_t, double> acc;
+  auto flush = [&]() {
+    for (const auto& [r, w] : acc) {
+      pt_rep_.push_back(r);
+      pt_weight_.push_back(w);
+    }
+    pt_offset_.push_back(static_cast<std::int64_t>(pt_rep_.size()));
+    acc.clear();
+  };
+  if (body.homogenisation) {
+    const auto& h = *body.homogenisation;
+    for (std::size_t q = 0; q < h.size(); ++q) {
+      for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
+        acc[representative_[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])]] +=
+            h.weight[static_cast<std::size_t>(c)];
+      flush();
+    }
+  } else {
+    for (std::size_t k = 0; k < body.size(); ++k) {
+      acc[representative_[k]] += 1.0;
+      flush();
+    }
+  }
 }
 
 struct CauchyBorn::Scratch {
@@ -300,6 +324,25 @@ CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) con
   s.W /= V;
   s.P /= V;
   s.A /= V;
+  return s;
+}
+
+CauchyBornState CauchyBorn::point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent) const {
+  thread_local Scratch scratch;
+  scratch.size(nmax_, tangent);
+  CauchyBornState s;
+  double psi = 0, p9[9], a81[81];
+  for (auto c = pt_offset_[p]; c < pt_offset_[p + 1]; ++c) {
+    const auto cc = static_cast<std::size_t>(c);
+    family(pt_rep_[cc], F, tangent, scratch, psi, p9, a81);
+    const double w = pt_weight_[cc];
+    s.W += w * psi;
+    for (int i = 0; i < 3; ++i)
+      for (int J = 0; J < 3; ++J) s.P(i, J) += w * p9[3 * i + J];
+    if (tangent)
+      for (int r = 0; r < 9; ++r)
+        for (int q = 0; q < 9; ++q) s.A(r, q) += w * a81[9 * r + q];
+  }
   return s;
 }
 

@@ -107,6 +107,79 @@ std::function<double(double)> value_fn(const Ctx& c, const YAML::Node& n, const 
   }
 }
 
+// `geometry: {shape: model, file: res.h5}` (docs/solver.md §2.1): the points (and volumes) of a
+// model file; surface vectors and spacing from solver::analyse_cloud. Read at load time so a
+// bad file is an input error with its line.
+void load_model_geometry(const Ctx& c, const YAML::Node& g, const std::filesystem::path& scene_file,
+                         Scene& s) {
+  for (const char* k : {"origin", "size", "spacing", "nodes", "holes", "cracks"})
+    if (g[k])
+      throw c
+          .err(g[k], std::string("geometry.") + k,
+               fmt::format("geometry.{} is not allowed with shape: model", k))
+          .expected("geometry: {shape: model, file: model.h5}")
+          .fix(std::string(k) == "spacing"
+                   ? "remove it: the spacing is the model's (its homogenisation grid step, or the "
+                     "mean nearest-neighbour distance of its points)"
+               : std::string(k) == "holes" || std::string(k) == "cracks"
+                   ? fmt::format(
+                         "remove it: the model's points and atomic bonds are the body; cut {0} "
+                         "in the atoms before `pdcg atoms2pd` ({0} drawn over the model would "
+                         "leave the model's own bonds, and its Cauchy–Born material, across it)",
+                         std::string(k) == "holes" ? "a hole" : "a notch")
+                   : "remove it: the body is the model's points");
+  if (!g["file"])
+    throw c.err(g, "geometry.file", "missing key")
+        .expected("the pdcg model file, e.g. file: res.h5 (relative to the scene file)");
+  std::filesystem::path f = c.text(g["file"], "geometry.file");
+  if (f.is_relative()) f = std::filesystem::absolute(scene_file.parent_path() / f);
+  if (!std::filesystem::exists(f))
+    throw c.err(g["file"], "geometry.file", "the model file does not exist")
+        .value(f.string())
+        .fix("check the path (relative paths are relative to the scene file)");
+  body::Body b;
+  try {
+    b = body::read_body(f);
+  } catch (InputError& e) {
+    throw e.line(g["file"].Mark().line + 1).key("geometry.file");
+  }
+  if (b.dimension != s.dimension)
+    throw c.err(g["file"], "geometry.file", "the model's dimension differs from the scene's")
+        .value(fmt::format("a {}D model in a {}D scene", b.dimension, s.dimension))
+        .fix(fmt::format("set dimension: {}, or use a {}D model", b.dimension, s.dimension));
+  auto m = std::make_shared<ModelGeometry>();
+  m->file = f;
+  m->kind = std::string(body::to_string(b.kind));
+  std::vector<double> vol;
+  double hint = 0.0;
+  std::optional<Eigen::Matrix3d> basis;
+  if (b.homogenisation) {
+    const auto& h = *b.homogenisation;
+    for (std::size_t p = 0; p < h.size(); ++p)
+      m->points.emplace_back(h.points[3 * p], h.points[3 * p + 1], h.points[3 * p + 2]);
+    vol = h.volume;
+    if (h.grid_axes.size() == 9) {
+      basis = Eigen::Map<const Eigen::Matrix3d>(h.grid_axes.data());
+      for (int a = 0; a < s.dimension; ++a) hint += basis->col(a).norm() / s.dimension;
+      if (s.dimension == 2) basis->col(2) = Vec3::UnitZ();
+    }
+  } else {
+    for (std::size_t k = 0; k < b.size(); ++k)
+      m->points.emplace_back(b.x[3 * k], b.x[3 * k + 1], b.x[3 * k + 2]);
+  }
+  if (s.dimension == 2)
+    for (auto& p : m->points) p.z() = 0.0;  // a film in the xy plane (its z is the box's)
+  const double fallback =
+      b.reference_volume() / static_cast<double>(std::max<std::size_t>(1, b.size()));
+  try {
+    m->cloud =
+        solver::analyse_cloud(s.dimension, m->points, std::move(vol), fallback, {}, hint, basis);
+  } catch (InputError& e) {
+    throw e.source(c.file).line(g["file"].Mark().line + 1);
+  }
+  s.model_geometry = std::move(m);
+}
+
 // `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
 // read here once so that a bad file, a statistical body or a dimension mismatch is an input
 // error of the scene (with its line), not a failure at run time.
@@ -142,10 +215,41 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
     throw c.err(m, "plane", "a 2D Cauchy–Born model is a plane-strain (areal) material")
         .value(s.plane)
         .fix("set plane: strain");
+  if (m["per_point"]) {
+    try {
+      s.material_per_point = m["per_point"].as<bool>();
+    } catch (const YAML::Exception&) {
+      throw c.err(m["per_point"], "material.per_point", "not a boolean")
+          .value(m["per_point"].Scalar())
+          .expected("true or false");
+    }
+  }
+  if (s.material_per_point) {
+    if (!s.model_geometry)
+      throw c
+          .err(m["per_point"], "material.per_point",
+               "a per-point material needs the model's own points as the body")
+          .fix(fmt::format("set geometry: {{shape: model, file: {}}}", f.filename().string()));
+    if (std::filesystem::weakly_canonical(s.model_geometry->file) !=
+        std::filesystem::weakly_canonical(f))
+      throw c
+          .err(m["file"], "material.file",
+               "a per-point material must come from the geometry's model file (point p of the "
+               "body is point p of the model)")
+          .value(fmt::format("material {} vs geometry {}", f.string(),
+                             s.model_geometry->file.string()));
+  }
   if (!m["density"]) {
     double mass = 0;
     for (double v : b->mass) mass += v;
     s.density = mass / b->reference_volume();
+    // On the model's own points the body's volume is Σ V_p (a free model's box has vacuum).
+    if (s.model_geometry && std::filesystem::weakly_canonical(s.model_geometry->file) ==
+                                std::filesystem::weakly_canonical(f)) {
+      double vol = 0;
+      for (double v : s.model_geometry->cloud.volume) vol += v;
+      if (vol > 0) s.density = mass / vol;
+    }
   }
 }
 
@@ -199,56 +303,59 @@ Scene load_scene(const std::filesystem::path& file) {
         .source(c.file)
         .key("geometry")
         .expected("geometry: {shape: rectangle, origin, size, spacing}");
-  c.keys(g, "geometry", {"shape", "origin", "size", "spacing", "nodes", "holes", "cracks"});
+  c.keys(g, "geometry", {"shape", "origin", "size", "spacing", "nodes", "holes", "cracks", "file"});
   const std::string shape =
       g["shape"] ? c.choice(g["shape"], "geometry.shape", {"rectangle", "box", "model"})
                  : (d == 2 ? "rectangle" : "box");
-  if (shape == "model")
-    throw c
-        .err(g["shape"], "geometry.shape", "geometry from a pdcg model file is not implemented yet")
-        .value("model")
-        .expected("rectangle or box");
-  if ((shape == "rectangle") != (d == 2))
+  if (shape == "model") {
+    load_model_geometry(c, g, file, s);
+  } else if (g["file"]) {
+    throw c.err(g["file"], "geometry.file", "a model file is for geometry.shape: model")
+        .fix("set shape: model, or remove geometry.file");
+  }
+  if (shape != "model" && (shape == "rectangle") != (d == 2))
     throw c.err(g["shape"], "geometry.shape", "shape does not match the dimension")
         .value(shape)
         .expected(d == 2 ? "rectangle" : "box");
   s.geometry.dimension = d;
-  if (g["origin"]) s.geometry.origin = c.vec(g["origin"], "geometry.origin", d);
-  if (!g["size"])
-    throw c.err(g, "geometry.size", "missing key").expected("the body size, e.g. [1.0, 1.0]");
-  s.geometry.size = c.vec(g["size"], "geometry.size", d);
-  if (d == 2) s.geometry.size.z() = 1.0;
-  if (!g["spacing"])
-    throw c.err(g, "geometry.spacing", "missing key").expected("the grid spacing, e.g. 0.025");
-  s.geometry.spacing = c.number(g["spacing"], "geometry.spacing");
-  // Grid points at cell centres (default) or on the grid vertices, boundary included.
-  if (g["nodes"])
-    s.geometry.nodes = c.choice(g["nodes"], "geometry.nodes", {"cells", "vertices"}) == "vertices"
-                           ? solver::GridNodes::vertices
-                           : solver::GridNodes::cell_centres;
-  if (g["holes"]) {
-    if (!g["holes"].IsSequence())
-      throw c.err(g["holes"], "geometry.holes", "expected a list")
-          .expected("[{center: [...], radius: r}, ...]");
-    for (const auto& h : g["holes"]) {
-      c.keys(h, "geometry.holes[]", {"center", "radius"});
-      solver::Hole hole;
-      hole.center = c.vec(h["center"], "geometry.holes[].center", d);
-      hole.radius = c.number(h["radius"], "geometry.holes[].radius");
-      if (!(hole.radius > 0))
-        throw c.err(h["radius"], "geometry.holes[].radius", "radius must be positive")
-            .value(h["radius"].Scalar());
-      s.geometry.holes.push_back(hole);
+  if (!s.model_geometry) {
+    if (g["origin"]) s.geometry.origin = c.vec(g["origin"], "geometry.origin", d);
+    if (!g["size"])
+      throw c.err(g, "geometry.size", "missing key").expected("the body size, e.g. [1.0, 1.0]");
+    s.geometry.size = c.vec(g["size"], "geometry.size", d);
+    if (d == 2) s.geometry.size.z() = 1.0;
+    if (!g["spacing"])
+      throw c.err(g, "geometry.spacing", "missing key").expected("the grid spacing, e.g. 0.025");
+    s.geometry.spacing = c.number(g["spacing"], "geometry.spacing");
+    // Grid points at cell centres (default) or on the grid vertices, boundary included.
+    if (g["nodes"])
+      s.geometry.nodes = c.choice(g["nodes"], "geometry.nodes", {"cells", "vertices"}) == "vertices"
+                             ? solver::GridNodes::vertices
+                             : solver::GridNodes::cell_centres;
+    if (g["holes"]) {
+      if (!g["holes"].IsSequence())
+        throw c.err(g["holes"], "geometry.holes", "expected a list")
+            .expected("[{center: [...], radius: r}, ...]");
+      for (const auto& h : g["holes"]) {
+        c.keys(h, "geometry.holes[]", {"center", "radius"});
+        solver::Hole hole;
+        hole.center = c.vec(h["center"], "geometry.holes[].center", d);
+        hole.radius = c.number(h["radius"], "geometry.holes[].radius");
+        if (!(hole.radius > 0))
+          throw c.err(h["radius"], "geometry.holes[].radius", "radius must be positive")
+              .value(h["radius"].Scalar());
+        s.geometry.holes.push_back(hole);
+      }
     }
-  }
-  if (g["cracks"]) {
-    if (!g["cracks"].IsSequence())
-      throw c.err(g["cracks"], "geometry.cracks", "expected a list")
-          .expected("[{from: [...], to: [...]}, ...]");
-    for (const auto& k : g["cracks"]) {
-      c.keys(k, "geometry.cracks[]", {"from", "to"});
-      s.geometry.cracks.push_back({c.vec(k["from"], "geometry.cracks[].from", d),
-                                   c.vec(k["to"], "geometry.cracks[].to", d)});
+    if (g["cracks"]) {
+      if (!g["cracks"].IsSequence())
+        throw c.err(g["cracks"], "geometry.cracks", "expected a list")
+            .expected("[{from: [...], to: [...]}, ...]");
+      for (const auto& k : g["cracks"]) {
+        c.keys(k, "geometry.cracks[]", {"from", "to"});
+        s.geometry.cracks.push_back({c.vec(k["from"], "geometry.cracks[].from", d),
+                                     c.vec(k["to"], "geometry.cracks[].to", d)});
+      }
     }
   }
   // horizon
@@ -258,24 +365,27 @@ Scene load_scene(const std::filesystem::path& file) {
       throw c.err(h, "horizon", "give either factor or value, not both");
     if (h["factor"]) s.horizon_factor = c.number(h["factor"], "horizon.factor");
     if (h["value"]) s.horizon_value = c.number(h["value"], "horizon.value");
-    const double delta =
-        s.horizon_value > 0 ? s.horizon_value : s.horizon_factor * s.geometry.spacing;
-    if (!(delta >= s.geometry.spacing))
+    const double delta = s.horizon_value > 0 ? s.horizon_value : s.horizon_factor * s.spacing();
+    if (!(delta >= s.spacing()))
       throw c.err(h, "horizon", "horizon smaller than the grid spacing")
           .value(fmt::format("{}", delta))
-          .expected(
-              fmt::format("at least the spacing {} (usually 3.015 spacings)", s.geometry.spacing))
+          .expected(fmt::format("at least the spacing {} (usually 3.015 spacings)", s.spacing()))
           .fix("use horizon: {factor: 3.015}");
   }
   // material
   if (const auto m = root["material"]) {
-    c.keys(m, "material", {"model", "shear_modulus", "bulk_modulus", "density", "file"});
+    c.keys(m, "material",
+           {"model", "shear_modulus", "bulk_modulus", "density", "file", "per_point"});
     if (m["model"])
       s.material_model = c.choice(m["model"], "material.model", {"neo-hookean", "cauchy-born"});
     if (m["density"]) s.density = c.number(m["density"], "material.density");
     if (s.material_model == "cauchy-born") {
       load_cauchy_born(c, m, file, s);
     } else {
+      if (m["per_point"])
+        throw c
+            .err(m["per_point"], "material.per_point", "per_point is for the Cauchy–Born material")
+            .fix("remove material.per_point, or set material.model: cauchy-born");
       if (m["file"])
         throw c.err(m["file"], "material.file", "a model file is for the Cauchy–Born material")
             .fix("remove material.file, or set material.model: cauchy-born");
@@ -620,29 +730,34 @@ std::string resolved_yaml(const Scene& s) {
   y << YAML::Key << "dimension" << YAML::Value << d;
   if (d == 2) y << YAML::Key << "plane" << YAML::Value << s.plane;
   y << YAML::Key << "geometry" << YAML::Value << YAML::BeginMap;
-  y << YAML::Key << "shape" << YAML::Value << (d == 2 ? "rectangle" : "box");
-  y << YAML::Key << "origin" << YAML::Value;
-  vec(s.geometry.origin);
-  y << YAML::Key << "size" << YAML::Value;
-  vec(s.geometry.size);
-  y << YAML::Key << "spacing" << YAML::Value << s.geometry.spacing;
-  y << YAML::Key << "nodes" << YAML::Value
-    << (s.geometry.nodes == solver::GridNodes::vertices ? "vertices" : "cells");
-  y << YAML::Key << "holes" << YAML::Value << YAML::BeginSeq;
-  for (const auto& h : s.geometry.holes) {
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value;
-    vec(h.center);
-    y << YAML::Key << "radius" << YAML::Value << h.radius << YAML::EndMap;
+  if (s.model_geometry) {
+    y << YAML::Key << "shape" << YAML::Value << "model" << YAML::Key << "file" << YAML::Value
+      << s.model_geometry->file.string() << YAML::EndMap;
+  } else {
+    y << YAML::Key << "shape" << YAML::Value << (d == 2 ? "rectangle" : "box");
+    y << YAML::Key << "origin" << YAML::Value;
+    vec(s.geometry.origin);
+    y << YAML::Key << "size" << YAML::Value;
+    vec(s.geometry.size);
+    y << YAML::Key << "spacing" << YAML::Value << s.geometry.spacing;
+    y << YAML::Key << "nodes" << YAML::Value
+      << (s.geometry.nodes == solver::GridNodes::vertices ? "vertices" : "cells");
+    y << YAML::Key << "holes" << YAML::Value << YAML::BeginSeq;
+    for (const auto& h : s.geometry.holes) {
+      y << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value;
+      vec(h.center);
+      y << YAML::Key << "radius" << YAML::Value << h.radius << YAML::EndMap;
+    }
+    y << YAML::EndSeq << YAML::Key << "cracks" << YAML::Value << YAML::BeginSeq;
+    for (const auto& k : s.geometry.cracks) {
+      y << YAML::Flow << YAML::BeginMap << YAML::Key << "from" << YAML::Value;
+      vec(k.from);
+      y << YAML::Key << "to" << YAML::Value;
+      vec(k.to);
+      y << YAML::EndMap;
+    }
+    y << YAML::EndSeq << YAML::EndMap;
   }
-  y << YAML::EndSeq << YAML::Key << "cracks" << YAML::Value << YAML::BeginSeq;
-  for (const auto& k : s.geometry.cracks) {
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "from" << YAML::Value;
-    vec(k.from);
-    y << YAML::Key << "to" << YAML::Value;
-    vec(k.to);
-    y << YAML::EndMap;
-  }
-  y << YAML::EndSeq << YAML::EndMap;
   y << YAML::Key << "horizon" << YAML::Value << YAML::Flow << YAML::BeginMap;
   if (s.horizon_value > 0)
     y << YAML::Key << "value" << YAML::Value << s.horizon_value;
@@ -651,9 +766,10 @@ std::string resolved_yaml(const Scene& s) {
   y << YAML::EndMap;
   y << YAML::Key << "material" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
     << "model" << YAML::Value << s.material_model;
-  if (s.material_model == "cauchy-born")
+  if (s.material_model == "cauchy-born") {
     y << YAML::Key << "file" << YAML::Value << s.material_file.string();
-  else
+    if (s.material_per_point) y << YAML::Key << "per_point" << YAML::Value << true;
+  } else
     y << YAML::Key << "shear_modulus" << YAML::Value << s.shear_modulus << YAML::Key
       << "bulk_modulus" << YAML::Value << s.bulk_modulus;
   y << YAML::Key << "density" << YAML::Value << s.density << YAML::EndMap;
@@ -779,7 +895,8 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
             fmt::format("bounds that contain grid points (cell centres or vertices, spacing {}; "
                         "bounds are inclusive with a tolerance of half a spacing)",
                         body.spacing()))
-        .fix("check the bounds against geometry.origin and geometry.size");
+        .fix(s.model_geometry ? "check the bounds against the model's points (pdcg info MODEL)"
+                              : "check the bounds against geometry.origin and geometry.size");
   return out;
 }
 
@@ -841,7 +958,7 @@ void write_fields(const std::filesystem::path& dir, const Scene& s,
     }
     double psi = 0;
     solver::Mat3 P = solver::Mat3::Zero();
-    material.evaluate(F[i], &psi, &P, nullptr);
+    material.evaluate_at(static_cast<int>(i), F[i], &psi, &P, nullptr);
     const solver::Mat3 Ff = material.full_deformation_gradient(F[i]);
     const solver::Mat3 sigma = P * Ff.transpose() / Ff.determinant();
     for (int a = 0; a < 3; ++a)
@@ -1157,7 +1274,26 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
 
 }  // namespace
 
+solver::Discretization make_discretization(const Scene& s) {
+  solver::DiscretizationOptions dopt;
+  dopt.horizon_factor = s.horizon_factor;
+  dopt.horizon = s.horizon_value;
+  if (!s.model_geometry) return solver::Discretization::grid(s.geometry, dopt);
+  const auto& m = *s.model_geometry;
+  log::info("geometry: {} points of {} model {}; surface rule {} ({} surface points), spacing {}",
+            m.points.size(), m.kind, m.file.string(),
+            m.cloud.rule == solver::SurfaceRule::lattice ? "lattice (Wigner–Seitz faces)"
+                                                         : "voronoi (ball-clipped cells)",
+            m.cloud.surface_points, m.cloud.spacing);
+  return solver::Discretization::from_points(s.dimension, m.points, m.cloud.volume, m.cloud.surface,
+                                             m.cloud.spacing, {}, dopt);
+}
+
 std::unique_ptr<solver::Material> make_material(const Scene& s) {
+  if (s.material_model == "cauchy-born" && s.material_per_point)
+    return std::make_unique<body::PerPointCauchyBornMaterial>(
+        std::make_shared<const body::Body>(body::read_body(s.material_file)),
+        s.model_geometry->cloud.volume, s.material_file.string());
   if (s.material_model == "cauchy-born")
     return body::CauchyBornMaterial::from_file(s.material_file);
   const auto kin = s.dimension == 3      ? solver::Kinematics::three_d
@@ -1183,10 +1319,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     f.stream() << resolved_yaml(s);
     f.commit();
   }
-  solver::DiscretizationOptions dopt;
-  dopt.horizon_factor = s.horizon_factor;
-  dopt.horizon = s.horizon_value;
-  auto body = solver::Discretization::grid(s.geometry, dopt);
+  auto body = make_discretization(s);
   log::info("body: {} points, spacing {}, horizon {}", body.size(), body.spacing(), body.horizon());
   const auto material = make_material(s);
   log::info("material: {}", material->name());

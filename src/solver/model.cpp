@@ -73,6 +73,7 @@ template <int D>
   const double* grad = S.grad.data();
   const std::int64_t* off = S.offsets.data();
   const double* weight = S.weight.data();
+  const int* center = S.center.data();
   bool ok = true;
   for (std::size_t s = s0; s < s1; ++s) {
     double G[D][D];
@@ -80,7 +81,8 @@ template <int D>
     Mat3 F = Mat3::Identity(), P;
     for (int a = 0; a < D; ++a)
       for (int J = 0; J < D; ++J) F(a, J) += G[a][J];
-    if (!material.evaluate(F, nullptr, &P, nullptr)) {
+    // The stencil's material is its centre's (per-point materials, Material::evaluate_at).
+    if (!material.evaluate_at(center[s], F, nullptr, &P, nullptr)) {
       ok = false;
       continue;
     }
@@ -239,11 +241,11 @@ bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
   for (std::size_t s = 0; s < ns; ++s) {
     const Mat3 F = d == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
     if (!tangent) {
-      if (!material_->evaluate(F, nullptr, &Ps_[s], nullptr)) ok = false;
+      if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], nullptr)) ok = false;
       continue;
     }
     Tangent A;
-    if (!material_->evaluate(F, nullptr, &Ps_[s], &A)) ok = false;
+    if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], &A)) ok = false;
     // Compact d²×d² copy (2D: 16 of the 81 entries), contiguous per stencil: the
     // row gather reads it once per member row, so its size is the memory traffic.
     double* c = Ac_.data() + s * static_cast<std::size_t>(d4);
@@ -263,8 +265,10 @@ bool Model::evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const {
   bool ok = true;
 #pragma omp parallel for schedule(static) reduction(&& : ok)
   for (std::size_t w = 0; w < nw; ++w) {
-    const Mat3 F = stencil_gradient(Pst, static_cast<std::size_t>(weak_points_[w]), u);
-    if (!material_->evaluate(F, nullptr, &Pbar_[w], tangent ? &Abar_[w] : nullptr)) ok = false;
+    const int k = weak_points_[w];
+    const Mat3 F = stencil_gradient(Pst, static_cast<std::size_t>(k), u);
+    if (!material_->evaluate_at(k, F, nullptr, &Pbar_[w], tangent ? &Abar_[w] : nullptr))
+      ok = false;
   }
   return ok;
 }
@@ -276,7 +280,8 @@ double Model::energy(const Eigen::VectorXd& u) const {
 #pragma omp parallel for schedule(static) reduction(+ : e) reduction(&& : ok)
   for (std::size_t s = 0; s < S.size(); ++s) {
     double psi = 0;
-    if (!material_->evaluate(stencil_gradient(S, s, u), &psi, nullptr, nullptr)) ok = false;
+    if (!material_->evaluate_at(S.center[s], stencil_gradient(S, s, u), &psi, nullptr, nullptr))
+      ok = false;
     e += S.weight[s] * psi;
   }
   for (std::size_t a = 0; a < anchor_points_.size(); ++a)

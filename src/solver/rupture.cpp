@@ -76,8 +76,9 @@ std::vector<double> Rupture::criterion_values(const Eigen::VectorXd& u) const {
       if (opt_.criterion == RuptureCriterion::energy_density) {
         double psi = 0;
         // inadmissible F (J ≤ 0) counts as past every criterion
-        dir[q] =
-            mat.evaluate(F, &psi, nullptr, nullptr) ? psi : std::numeric_limits<double>::infinity();
+        dir[q] = mat.evaluate_at(static_cast<int>(i), F, &psi, nullptr, nullptr)
+                     ? psi
+                     : std::numeric_limits<double>::infinity();
       } else {
         const Mat3 Ff = mat.full_deformation_gradient(F);
         Eigen::SelfAdjointEigenSolver<Mat3> es(Ff.transpose() * Ff, Eigen::EigenvaluesOnly);
@@ -166,7 +167,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u) {
           for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
       }
       Mat3 P;
-      if (!mat.evaluate(F, nullptr, &P, nullptr)) bad[q] = 1;
+      if (!mat.evaluate_at(static_cast<int>(i), F, nullptr, &P, nullptr)) bad[q] = 1;
     }
   std::size_t n = 0;
   for (std::size_t i = 0; i < B.size(); ++i)

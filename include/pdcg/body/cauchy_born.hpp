@@ -56,6 +56,16 @@ class CauchyBorn {
   /// Per homogenised point p: W_p, P_p, A_p (InputError if the body is not homogenised).
   std::vector<CauchyBornState> points(const Eigen::Matrix3d& F, bool tangent = true) const;
 
+  /// Per-point sums of a nonhomogeneous body (surfaces, defects; docs/elastic.md §7): the
+  /// points are the homogenisation points of a homogenised body, else the atoms. Point p's
+  /// energy under Y = Fξ and its derivatives, NOT divided by a volume:
+  ///   E_p(F) = Σ_k w_kp ψ_k(Fξ),  ∂E_p/∂F = Σ_k w_kp Σ_b t_b ⊗ ξ_b,  ∂²E_p/∂F∂F (as A),
+  /// w_kp = 1 for k = p on a delta or rescaled body. Atoms of one environment class are
+  /// evaluated once per point (interior points of a perfect crystal: one family). Serial,
+  /// thread-local work arrays: callable from the solver's OpenMP loops.
+  std::size_t point_count() const { return pt_offset_.size() - 1; }
+  CauchyBornState point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent = true) const;
+
   const Body& body() const { return body_; }
   /// Number of distinct atomic environments (atoms whose families coincide — same type and
   /// the same bonds ξ to 1e-10·max|ξ|, partner types, special factors — are evaluated once).
@@ -76,6 +86,10 @@ class CauchyBorn {
   std::vector<std::int32_t> reps_;  ///< one atom per class
   std::vector<double> rep_weight_;  ///< Σ_{k ∈ class} w_k (w_k = Σ_p w_kp, or 1)
   std::int64_t nmax_ = 0;           ///< largest family
+  /// per point: (representative atom, Σ w_kp over the point's atoms of that class), CSR
+  std::vector<std::int64_t> pt_offset_{0};
+  std::vector<std::int32_t> pt_rep_;
+  std::vector<double> pt_weight_;
 };
 
 /// Strain-based elastic constants C_MJNL = ∂²W/∂E_MJ∂E_NL from (F, P, A) (formula above),

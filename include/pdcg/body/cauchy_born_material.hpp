@@ -15,12 +15,17 @@
 /// environment (one for a perfect Bravais crystal).
 #pragma once
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
+#include <cmath>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/core/error.hpp"
 #include "pdcg/solver/material.hpp"
 
 namespace pdcg::body {
@@ -82,6 +87,86 @@ class CauchyBornMaterial final : public solver::Material {
   std::shared_ptr<const Body> body_;
   std::shared_ptr<const CauchyBorn>
       cb_;  // holds a reference to *body_ (shared, so clones stay valid)
+  std::string source_;
+};
+
+/// Per-point Cauchy–Born material of a nonhomogeneous model (free surfaces, defects;
+/// docs/elastic.md §7): point p of the model (homogenisation point, or atom of a delta/rescaled
+/// body) has
+///   W_p(F) = E_p(F) / V_p,   E_p(F) = Σ_k w_kp ψ_k(Fξ)   (CauchyBorn::point_sum),
+/// P_p and A_p its analytic derivatives, V_p the point's volume in the solver's discretisation
+/// (the same volumes, so Σ_p V_p W_p(F) is the model's energy under Y = Fξ). The solver point
+/// index is the model point index (`geometry: {shape: model}` keeps the model's order); a BA
+/// stencil B_ij uses point i's material. evaluate(F) (no point) is the body-level W(F).
+class PerPointCauchyBornMaterial final : public solver::Material {
+ public:
+  PerPointCauchyBornMaterial(std::shared_ptr<const Body> body, std::vector<double> volume,
+                             std::string source = {})
+      : body_(std::move(body)),
+        cb_(std::make_shared<CauchyBorn>(*body_)),
+        volume_(std::make_shared<const std::vector<double>>(std::move(volume))),
+        source_(std::move(source)) {
+    if (volume_->size() != cb_->point_count())
+      throw InputError("per-point Cauchy–Born material: one volume per model point needed")
+          .value(fmt::format("{} volumes for {} points", volume_->size(), cb_->point_count()));
+  }
+
+  int dimension() const override { return body_->dimension == 2 ? 2 : 3; }
+  bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P,
+                solver::Tangent* A) const override {
+    const solver::Mat3 Ff = full_deformation_gradient(F);
+    if (!(Ff.determinant() > 0.0)) return false;
+    return finish(cb_->evaluate(Ff, A != nullptr), 1.0, psi, P, A);
+  }
+  bool evaluate_at(int point, const solver::Mat3& F, double* psi, solver::Mat3* P,
+                   solver::Tangent* A) const override {
+    const solver::Mat3 Ff = full_deformation_gradient(F);
+    if (!(Ff.determinant() > 0.0)) return false;
+    const auto p = static_cast<std::size_t>(point);
+    return finish(cb_->point_sum(p, Ff, A != nullptr), 1.0 / (*volume_)[p], psi, P, A);
+  }
+  solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {
+    if (dimension() == 3) return F;
+    solver::Mat3 G = solver::Mat3::Identity();
+    G.topLeftCorner<2, 2>() = F.topLeftCorner<2, 2>();
+    return G;
+  }
+  std::string name() const override {
+    std::string n = "cauchy-born per point (";
+    n.append(dimension() == 2 ? "plane strain" : "3d");
+    n.append(fmt::format(", {} points", volume_->size()));
+    if (!source_.empty()) n.append(", ").append(source_);
+    return n.append(")");
+  }
+  std::unique_ptr<solver::Material> clone() const override {
+    return std::make_unique<PerPointCauchyBornMaterial>(*this);
+  }
+  const CauchyBorn& cauchy_born() const { return *cb_; }
+
+ private:
+  bool finish(const CauchyBornState& s, double scale, double* psi, solver::Mat3* P,
+              solver::Tangent* A) const {
+    if (!std::isfinite(s.W)) return false;
+    if (psi) *psi = scale * s.W;
+    if (P) {
+      *P = scale * s.P;
+      if (dimension() == 2) {
+        P->row(2).setZero();
+        P->col(2).setZero();
+      }
+    }
+    if (A) {
+      *A = scale * s.A;
+      if (dimension() == 2)
+        for (int r = 0; r < 9; ++r)
+          for (int c = 0; c < 9; ++c)
+            if (r / 3 == 2 || r % 3 == 2 || c / 3 == 2 || c % 3 == 2) (*A)(r, c) = 0.0;
+    }
+    return true;
+  }
+  std::shared_ptr<const Body> body_;
+  std::shared_ptr<const CauchyBorn> cb_;
+  std::shared_ptr<const std::vector<double>> volume_;
   std::string source_;
 };
 

@@ -13,6 +13,10 @@
 ///   material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
 ///   # or the Cauchy–Born material of a pdcg model file (docs/elastic.md §6):
 ///   # material: {model: cauchy-born, file: res.h5}   # path relative to the scene file
+///   # the points of a model file as the body (docs/solver.md §2.1), and a per-point material
+///   # (docs/elastic.md §7):
+///   # geometry: {shape: model, file: res.h5}
+///   # material: {model: cauchy-born, file: res.h5, per_point: true}
 ///   boundary:
 ///     - {name: left,  region: {x_max: 0.0},  displacement: {x: 0.0}}
 ///     - {name: pin,   region: {point: [0.0, 0.0]}, displacement: {y: 0.0}}
@@ -51,6 +55,7 @@
 #include "pdcg/solver/material.hpp"
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
+#include "pdcg/solver/point_cloud.hpp"
 #include "pdcg/solver/rupture.hpp"
 
 namespace pdcg::scene {
@@ -68,18 +73,38 @@ struct BoundaryCondition {
   std::array<std::function<double(double)>, 3> value;
 };
 
+/// `geometry: {shape: model, file: res.h5}`: the points of a pdcg model file (docs/solver.md
+/// §2.1): homogenised models give their continuum points and volumes V_p; delta and rescaled
+/// models their atoms (volumes: the lattice cell |det A| when the atoms form a lattice, else
+/// V₀/N). The surface vectors s_k and the spacing come from solver::analyse_cloud.
+struct ModelGeometry {
+  std::filesystem::path file;
+  std::string kind;  ///< body kind of the model (delta, homogenised, rescaled)
+  std::vector<solver::Vec3> points;
+  solver::CloudGeometry cloud;
+};
+
 struct Scene {
   std::filesystem::path source;
   UnitStyle units = UnitStyle::none;
   int dimension = 2;
   std::string plane = "strain";
   solver::GridSpec geometry;
+  /// Set for `geometry.shape: model` (then `geometry` above is unused).
+  std::shared_ptr<const ModelGeometry> model_geometry;
+  /// The spacing of the body (grid spacing, or the model cloud's).
+  double spacing() const {
+    return model_geometry ? model_geometry->cloud.spacing : geometry.spacing;
+  }
   double horizon_factor = 3.015, horizon_value = 0.0;
   double shear_modulus = 1.0, bulk_modulus = 10.0, density = 1.0;
   /// `material.model`: "neo-hookean" or "cauchy-born" (then `material_file` is the pdcg-body
   /// file, resolved against the scene file's directory, and density defaults to Σ M_k / V₀).
   std::string material_model = "neo-hookean";
   std::filesystem::path material_file;
+  /// `material.per_point: true`: point p uses W_p of the model (body::PerPointCauchyBornMaterial);
+  /// needs geometry.shape: model on the same file.
+  bool material_per_point = false;
   std::vector<BoundaryCondition> boundary;
   int steps = 20;
   solver::NewtonOptions newton;
@@ -118,6 +143,9 @@ struct RunOptions {
 
 /// Effects a scene may list, and those this build runs.
 const std::vector<std::string>& valid_effects();
+
+/// The discretisation of the scene's geometry (grid, or the model file's points).
+solver::Discretization make_discretization(const Scene& s);
 
 /// Reads and validates a scene file. Throws InputError naming file, line and key.
 Scene load_scene(const std::filesystem::path& file);

@@ -37,6 +37,14 @@ class Material {
   /// is inadmissible (J ≤ 0, or the plane-stress local solve failed); the
   /// outputs are then unspecified and the caller should cut back its step.
   virtual bool evaluate(const Mat3& F, double* psi, Mat3* P, Tangent* A) const = 0;
+  /// The material of point `point` of the body (per-point materials of a nonhomogeneous body,
+  /// e.g. the per-point Cauchy–Born material of a model with surfaces; docs/elastic.md §7).
+  /// The solver evaluates a stencil with the material of its centre (a BA stencil B_ij: point
+  /// i's). Homogeneous materials: evaluate(F, …).
+  virtual bool evaluate_at(int point, const Mat3& F, double* psi, Mat3* P, Tangent* A) const {
+    (void)point;
+    return evaluate(F, psi, P, A);
+  }
   /// Full 3×3 deformation gradient the material works with (plane stress:
   /// F₃₃ from P₃₃ = 0; plane strain: F₃₃ = 1). For output (Cauchy stress).
   virtual Mat3 full_deformation_gradient(const Mat3& F) const = 0;
