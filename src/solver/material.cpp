@@ -8,17 +8,29 @@ namespace pdcg::solver {
 
 bool neo_hookean_3d(const NeoHookeanParameters& p, const Mat3& F, double* psi, Mat3* P,
                     Tangent* A) {
-  const double J = F.determinant();
+  // Cofactor matrix cof F = J F⁻ᵀ (J by its first row): one pass gives both J and
+  // H = F⁻ᵀ (Eigen's determinant() + inverse() computed the cofactors twice).
+  Mat3 cof;
+  cof(0, 0) = F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1);
+  cof(0, 1) = F(1, 2) * F(2, 0) - F(1, 0) * F(2, 2);
+  cof(0, 2) = F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0);
+  const double J = F(0, 0) * cof(0, 0) + F(0, 1) * cof(0, 1) + F(0, 2) * cof(0, 2);
   if (!(J > 0.0) || !std::isfinite(J)) return false;
   const double mu = p.shear_modulus, K = p.bulk_modulus;
-  const double I1 = F.squaredNorm();  // tr C
-  const double Jm23 = std::pow(J, -2.0 / 3.0);
+  const double I1 = F.squaredNorm();            // tr C
+  const double Jm23 = std::pow(J, -2.0 / 3.0);  // (1/cbrt(J)² measured no cheaper in glibc)
   if (psi) {
     const double v = J - 1.0 / J;
     *psi = 0.5 * mu * (Jm23 * I1 - 3.0) + 0.125 * K * v * v;
   }
   if (!P && !A) return true;
-  const Mat3 H = F.inverse().transpose();  // F⁻ᵀ
+  cof(1, 0) = F(0, 2) * F(2, 1) - F(0, 1) * F(2, 2);
+  cof(1, 1) = F(0, 0) * F(2, 2) - F(0, 2) * F(2, 0);
+  cof(1, 2) = F(0, 1) * F(2, 0) - F(0, 0) * F(2, 1);
+  cof(2, 0) = F(0, 1) * F(1, 2) - F(0, 2) * F(1, 1);
+  cof(2, 1) = F(0, 2) * F(1, 0) - F(0, 0) * F(1, 2);
+  cof(2, 2) = F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
+  const Mat3 H = cof / J;  // F⁻ᵀ
   const double J2 = J * J, Jm2 = 1.0 / J2;
   if (P) *P = mu * Jm23 * (F - (I1 / 3.0) * H) + 0.25 * K * (J2 - Jm2) * H;
   if (A) {
@@ -62,6 +74,32 @@ void restrict_in_plane(Mat3* P, Tangent* A) {
 }  // namespace
 
 bool NeoHookeanPlaneStrain::evaluate(const Mat3& F, double* psi, Mat3* P, Tangent* A) const {
+  if (!A) {
+    // Stress only (the residual, once per BA stencil): the same formulas on the 2×2 block,
+    // F₃₃ = 1, F⁻ᵀ in-plane = cof(F₂)/J; identical to the 3D path up to round-off, at about
+    // half its cost (the 3×3 path dominated the 2D residual: 24 of 60 instructions per term).
+    const double a = F(0, 0), b = F(0, 1), c = F(1, 0), d = F(1, 1);
+    const double J = a * d - b * c;
+    if (!(J > 0.0) || !std::isfinite(J)) return false;
+    const double mu = p_.shear_modulus, K = p_.bulk_modulus;
+    const double I1 = a * a + b * b + c * c + d * d + 1.0;
+    const double Jm23 = std::pow(J, -2.0 / 3.0);
+    if (psi) {
+      const double v = J - 1.0 / J;
+      *psi = 0.5 * mu * (Jm23 * I1 - 3.0) + 0.125 * K * v * v;
+    }
+    if (P) {
+      const double iJ = 1.0 / J, J2 = J * J;
+      const double h00 = d * iJ, h01 = -c * iJ, h10 = -b * iJ, h11 = a * iJ;  // F⁻ᵀ
+      const double c1 = mu * Jm23, c2 = c1 * I1 / 3.0, c3 = 0.25 * K * (J2 - 1.0 / J2);
+      P->setZero();
+      (*P)(0, 0) = c1 * a - c2 * h00 + c3 * h00;
+      (*P)(0, 1) = c1 * b - c2 * h01 + c3 * h01;
+      (*P)(1, 0) = c1 * c - c2 * h10 + c3 * h10;
+      (*P)(1, 1) = c1 * d - c2 * h11 + c3 * h11;
+    }
+    return true;
+  }
   if (!neo_hookean_3d(p_, embed(F, 1.0), psi, P, A)) return false;
   restrict_in_plane(P, A);
   return true;

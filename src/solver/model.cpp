@@ -28,6 +28,92 @@ int thread_id() {
   return 0;
 #endif
 }
+int team_size() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
+// F_S − I = Σ_{m∈S} u_m ⊗ G_S^m for stencil s, dimension D known at compile time (the
+// d×d accumulator stays in registers; members are contiguous: index[r], grad[D r …]).
+template <int D>
+inline void gradient_sum(const Stencils& S, std::size_t s, const double* u, double (&F)[D][D]) {
+  for (int a = 0; a < D; ++a)
+    for (int J = 0; J < D; ++J) F[a][J] = 0.0;
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+    const double* um = u + static_cast<std::int64_t>(D) * idx[r];
+    const double* g = grad + r * D;
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) F[a][J] += um[a] * g[J];
+  }
+}
+template <int D>
+inline Mat3 gradient_of(const Stencils& S, std::size_t s, const double* u) {
+  double F[D][D];
+  gradient_sum<D>(S, s, u, F);
+  Mat3 out = Mat3::Identity();
+  for (int a = 0; a < D; ++a)
+    for (int J = 0; J < D; ++J) out(a, J) += F[a][J];
+  return out;
+}
+
+// The fused residual sweep over stencils [s0, s1): gather F_S, P(F_S), scatter
+// f_m += w_S P_S G_S^m into f (a thread's private array). Compiled twice (target_clones):
+// for the baseline x86-64 and for x86-64-v3 (AVX2 + FMA), picked at load time by the CPU;
+// the FMA version rounds differently (contractions), within round-off of the other.
+template <int D>
+[[gnu::always_inline]] inline bool stencil_sweep(const Stencils& S, std::size_t s0, std::size_t s1,
+                                                 const double* u, double* f,
+                                                 const Material& material) {
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  const std::int64_t* off = S.offsets.data();
+  const double* weight = S.weight.data();
+  const int* center = S.center.data();
+  bool ok = true;
+  for (std::size_t s = s0; s < s1; ++s) {
+    double G[D][D];
+    gradient_sum<D>(S, s, u, G);
+    Mat3 F = Mat3::Identity(), P;
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) F(a, J) += G[a][J];
+    // The stencil's material is its centre's (per-point materials, Material::evaluate_at).
+    if (!material.evaluate_at(center[s], F, nullptr, &P, nullptr)) {
+      ok = false;
+      continue;
+    }
+    double wP[D][D];
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) wP[a][J] = weight[s] * P(a, J);
+    for (auto r = off[s]; r < off[s + 1]; ++r) {
+      double* fm = f + static_cast<std::int64_t>(D) * idx[r];
+      const double* g = grad + r * D;
+      for (int a = 0; a < D; ++a) {
+        double v = 0.0;
+        for (int J = 0; J < D; ++J) v += wP[a][J] * g[J];
+        fm[a] += v;
+      }
+    }
+  }
+  return ok;
+}
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PDCG_SWEEP_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
+#else
+#define PDCG_SWEEP_CLONES
+#endif
+PDCG_SWEEP_CLONES bool stencil_sweep_2d(const Stencils& S, std::size_t s0, std::size_t s1,
+                                        const double* u, double* f, const Material& m) {
+  return stencil_sweep<2>(S, s0, s1, u, f, m);
+}
+PDCG_SWEEP_CLONES bool stencil_sweep_3d(const Stencils& S, std::size_t s0, std::size_t s1,
+                                        const double* u, double* f, const Material& m) {
+  return stencil_sweep<3>(S, s0, s1, u, f, m);
+}
 }  // namespace
 
 Model::Model(const Discretization& body, const Material& material, ModelOptions options)
@@ -56,7 +142,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   // Smeared normals b_k and the weak-form defect e_k = b_k − s_k.
   smeared_.assign(N, Vec3::Zero());
   defect_.assign(N, Vec3::Zero());
-  weak_row_.assign(N, 0);
+  std::vector<char> weak(N, 0);
   const double area = std::pow(body.spacing(), d_ - 1);
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < N; ++k) {
@@ -72,10 +158,17 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
       // |e| below round-off of the sums (interior points): no correction row.
       if (e.norm() > 1e-10 * area) {
         defect_[k] = e;
-        weak_row_[k] = 1;
+        weak[k] = 1;
       }
     }
   }
+  weak_id_.assign(N, -1);
+  for (std::size_t k = 0; k < N; ++k)
+    if (weak[k]) {
+      weak_id_[k] = static_cast<int>(weak_points_.size());
+      weak_points_.push_back(static_cast<int>(k));
+    }
+  weak_points_.shrink_to_fit();
   // Matrix pattern: pairs of points sharing an energy stencil, plus weak rows.
   const Stencils& Pst = body.point_stencils();
   std::vector<std::vector<int>> adj(N);
@@ -96,7 +189,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
         const int s = member_of_.index[q];
         for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) add(S.index[r]);
       }
-      if (weak_row_[k])
+      if (weak_id_[k] >= 0)
         for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) add(Pst.index[r]);
       std::sort(a.begin(), a.end());
     }
@@ -107,14 +200,21 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   adjacency_.index.reserve(adjacency_.offsets[N]);
   for (auto& a : adj) adjacency_.index.insert(adjacency_.index.end(), a.begin(), a.end());
   adj.clear();
+  adjacency_.index.shrink_to_fit();
+  slot_.assign(static_cast<std::size_t>(max_threads()), std::vector<int>(N, -1));
+}
+
+// The matrix pattern is built into K itself on the first tangent call (no stored copy: the
+// pattern with its values is as large as K): row d·k+a holds the columns d·n+b, n ∈ adjacency(k).
+void Model::fill_pattern(SparseRow& K) const {
+  const std::size_t N = body_->size();
   const int n = static_cast<int>(dofs());
-  // Fill the compressed row storage directly (row d·k+a: columns d·n+b, n ∈ adjacency(k)).
-  pattern_.resize(n, n);
-  pattern_.makeCompressed();
+  K.resize(n, n);
+  K.makeCompressed();
   const std::int64_t nnz = static_cast<std::int64_t>(d_) * d_ * adjacency_.offsets[N];
-  pattern_.resizeNonZeros(nnz);
-  int* outer = pattern_.outerIndexPtr();
-  int* inner = pattern_.innerIndexPtr();
+  K.resizeNonZeros(nnz);
+  int* outer = K.outerIndexPtr();
+  int* inner = K.innerIndexPtr();
   std::int64_t pos = 0;
   for (std::size_t k = 0; k < N; ++k)
     for (int a = 0; a < d_; ++a) {
@@ -123,31 +223,23 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
         for (int b = 0; b < d_; ++b) inner[pos++] = d_ * adjacency_.index[q] + b;
     }
   outer[n] = static_cast<int>(pos);
-  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + nnz, 0.0);
-  slot_.assign(static_cast<std::size_t>(max_threads()), std::vector<int>(N, -1));
+  std::fill(K.valuePtr(), K.valuePtr() + nnz, 0.0);
 }
 
 Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u) const {
-  Mat3 F = Mat3::Identity();
-  for (auto q = S.offsets[s]; q < S.offsets[s + 1]; ++q) {
-    const int m = S.index[q];
-    const double* g = S.grad.data() + q * d_;
-    for (int a = 0; a < d_; ++a)
-      for (int J = 0; J < d_; ++J) F(a, J) += u[d_ * m + a] * g[J];
-  }
-  return F;
+  return d_ == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
 }
 
 bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
   const Stencils& S = *energy_;
-  const std::size_t ns = S.size(), N = body_->size();
+  const std::size_t ns = S.size();
   const int d = d_, d2 = d * d, d4 = d2 * d2;
   Ps_.resize(ns);
   if (tangent) Ac_.resize(ns * static_cast<std::size_t>(d4));
   std::atomic<bool> ok{true};
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < ns; ++s) {
-    const Mat3 F = stencil_gradient(S, s, u);
+    const Mat3 F = d == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
     if (!tangent) {
       if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], nullptr)) ok = false;
       continue;
@@ -162,18 +254,21 @@ bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
         for (int b = 0; b < d; ++b)
           for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
   }
-  if (opt_.boundary == BoundaryForm::weak) {
-    Pbar_.resize(N);
-    if (tangent) Abar_.resize(N);
-    const Stencils& Pst = body_->point_stencils();
-#pragma omp parallel for schedule(static)
-    for (std::size_t k = 0; k < N; ++k) {
-      if (!weak_row_[k]) continue;
-      const Mat3 F = stencil_gradient(Pst, k, u);
-      if (!material_->evaluate_at(static_cast<int>(k), F, nullptr, &Pbar_[k],
-                                  tangent ? &Abar_[k] : nullptr))
-        ok = false;
-    }
+  return ok && evaluate_weak_rows(u, tangent);
+}
+
+bool Model::evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const {
+  const std::size_t nw = weak_points_.size();
+  Pbar_.resize(nw);
+  if (tangent) Abar_.resize(nw);
+  const Stencils& Pst = body_->point_stencils();
+  bool ok = true;
+#pragma omp parallel for schedule(static) reduction(&& : ok)
+  for (std::size_t w = 0; w < nw; ++w) {
+    const int k = weak_points_[w];
+    const Mat3 F = stencil_gradient(Pst, static_cast<std::size_t>(k), u);
+    if (!material_->evaluate_at(k, F, nullptr, &Pbar_[w], tangent ? &Abar_[w] : nullptr))
+      ok = false;
   }
   return ok;
 }
@@ -197,26 +292,57 @@ double Model::energy(const Eigen::VectorXd& u) const {
   return ok ? e : std::numeric_limits<double>::quiet_NaN();
 }
 
-bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
-  if (!evaluate_stencils(u, false)) return false;
+// Residual, fused per stencil (issue 10 §2; docs/performance.md "BA kernels"): one pass
+// over the BA stencils reads each stencil's members and G once, gathers F_S, evaluates
+// P(F_S) and scatters f_m += w_S P_S G_S^m while the stencil is in L1. Threads own
+// contiguous stencil ranges (static schedule) and accumulate into private force arrays
+// (thread 0 into f), summed in a fixed order afterwards: no atomics, no false sharing,
+// deterministic for a given thread count. The stencil data stream from memory exactly once
+// (4 + 8d bytes per term), the minimum; no per-stencil stress is stored.
+template <int D>
+bool Model::residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
   const Stencils& S = *energy_;
-  const std::size_t N = body_->size();
-  f.setZero(dofs());
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < N; ++k) {
-    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
-      const int s = member_of_.index[q];
-      const double* g = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d_;
-      const Mat3& P = Ps_[s];
-      for (int a = 0; a < d_; ++a) {
-        double v = 0;
-        for (int J = 0; J < d_; ++J) v += P(a, J) * g[J];
-        f[d_ * k + a] += S.weight[s] * v;
+  const std::size_t ns = S.size(), ndof = dofs();
+  const auto nextra = static_cast<std::size_t>(std::max(0, max_threads() - 1));
+  if (fbuf_.size() < nextra) fbuf_.resize(nextra);
+  for (std::size_t t = 0; t < nextra; ++t)
+    if (fbuf_[t].size() != ndof) fbuf_[t].assign(ndof, 0.0);
+  const double* ud = u.data();
+  double* fd = f.data();
+  bool ok = true;
+#pragma omp parallel reduction(&& : ok)
+  {
+    const int t = thread_id(), nt = team_size();
+    double* ft = t == 0 ? fd : fbuf_[static_cast<std::size_t>(t - 1)].data();
+    if (t > 0) std::fill(ft, ft + ndof, 0.0);
+    // Contiguous stencil range per thread (a static schedule).
+    const std::size_t s0 = ns * t / nt, s1 = ns * (t + 1) / nt;
+    if (!(D == 2 ? stencil_sweep_2d(S, s0, s1, ud, ft, *material_)
+                 : stencil_sweep_3d(S, s0, s1, ud, ft, *material_)))
+      ok = false;
+#pragma omp barrier
+    if (nt > 1) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < ndof; ++i) {
+        double v = fd[i];
+        for (int q = 1; q < nt; ++q) v += fbuf_[static_cast<std::size_t>(q - 1)][i];
+        fd[i] = v;
       }
     }
-    if (weak_row_[k])
-      for (int a = 0; a < d_; ++a)
-        for (int J = 0; J < d_; ++J) f[d_ * k + a] -= Pbar_[k](a, J) * defect_[k](J);
+  }
+  return ok;
+}
+
+bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  f.setZero(dofs());
+  const bool ok = d_ == 2 ? residual_kernel<2>(u, f) : residual_kernel<3>(u, f);
+  if (!ok || !evaluate_weak_rows(u, false)) return false;
+  const std::size_t nw = weak_points_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t w = 0; w < nw; ++w) {
+    const auto k = static_cast<std::size_t>(weak_points_[w]);
+    for (int a = 0; a < d_; ++a)
+      for (int J = 0; J < d_; ++J) f[d_ * k + a] -= Pbar_[w](a, J) * defect_[k](J);
   }
   if (!anchor_points_.empty()) add_anchors(u, f, nullptr);
   return true;
@@ -296,11 +422,11 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
         }
       }
       for (int a = 0; a < D; ++a) f[D * k + a] = fk[a];
-      if (weak_row_[k]) {
+      if (const int w = weak_id_[k]; w >= 0) {
         const Vec3& e = defect_[k];
-        const Tangent& A = Abar_[k];
+        const Tangent& A = Abar_[w];
         for (int a = 0; a < D; ++a) {
-          for (int J = 0; J < D; ++J) f[D * k + a] -= Pbar_[k](a, J) * e(J);
+          for (int J = 0; J < D; ++J) f[D * k + a] -= Pbar_[w](a, J) * e(J);
           for (int b = 0; b < D; ++b)
             for (int L = 0; L < D; ++L) {
               double t = 0;
@@ -327,7 +453,8 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
 bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
                                        SparseRow& K) const {
   if (!evaluate_stencils(u, true)) return false;
-  if (K.rows() != pattern_.rows() || K.nonZeros() != pattern_.nonZeros()) K = pattern_;
+  const auto nnz = static_cast<Eigen::Index>(d_) * d_ * adjacency_.offsets[body_->size()];
+  if (K.rows() != static_cast<Eigen::Index>(dofs()) || K.nonZeros() != nnz) fill_pattern(K);
   if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
   // More threads than at construction (omp_set_num_threads raised): one slot array each.
   if (slot_.size() < static_cast<std::size_t>(max_threads()))

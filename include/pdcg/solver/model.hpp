@@ -67,7 +67,8 @@ class Model {
   double energy(const Eigen::VectorXd& u) const;
   /// Internal force f(u). Returns false if some F is inadmissible.
   bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
-  /// Internal force and its tangent K = ∂f/∂u (pattern fixed at construction).
+  /// Internal force and its tangent K = ∂f/∂u (K gets its pattern, fixed by the body, on the
+  /// first call; later calls refill its values in place).
   bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow& K) const;
 
   /// Point deformation gradients: weighted mean of the energy stencils centred
@@ -102,6 +103,10 @@ class Model {
  private:
   Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;
   bool evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const;
+  bool evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const;
+  template <int D>
+  bool residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
+  void fill_pattern(SparseRow& K) const;
   template <int D>
   void assemble_rows(Eigen::VectorXd& f, SparseRow& K) const;
 
@@ -114,15 +119,19 @@ class Model {
   Csr member_of_;
   std::vector<int> member_pos_;
   std::vector<Vec3> smeared_, defect_;
-  std::vector<char> weak_row_;
+  // Weak-form correction rows: weak_id_[k] = position of point k in weak_points_ (and in
+  // Pbar_/Abar_), −1 for interior points (no correction).
+  std::vector<int> weak_id_;
+  std::vector<int> weak_points_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   Csr adjacency_;
-  SparseRow pattern_;
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
-  mutable std::vector<double> Ac_;  // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
-  mutable std::vector<Mat3> Pbar_;
-  mutable std::vector<Tangent> Abar_;
+  mutable std::vector<double> Ac_;     // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
+  mutable std::vector<Mat3> Pbar_;     // per weak row
+  mutable std::vector<Tangent> Abar_;  // per weak row
+  // Residual: per-thread force accumulators for threads 1… (thread 0 writes into f).
+  mutable std::vector<std::vector<double>> fbuf_;
   mutable std::vector<std::vector<int>> slot_;  // per thread: column slot of each point
   std::vector<int> anchor_points_;
   std::vector<double> anchor_u_;  // d per anchored point
