@@ -484,7 +484,7 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
         need.push_back(member_of_.index[q]);
       }
   if (Ac_.size() < S.size() * static_cast<std::size_t>(d4)) Ac_.resize(S.size() * d4);
-  if (Abar_.size() < body_->size()) Abar_.resize(body_->size());
+  if (Abar_.size() < weak_points_.size()) Abar_.resize(weak_points_.size());
   std::atomic<bool> ok{true};
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < need.size(); ++i) {
@@ -500,9 +500,9 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
           for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
   }
   for (int k : points)
-    if (weak_row_[k]) {
+    if (const int w = weak_id_[k]; w >= 0) {
       Mat3 P;
-      if (!material_->evaluate_at(k, stencil_gradient(Pst, k, u), nullptr, &P, &Abar_[k]))
+      if (!material_->evaluate_at(k, stencil_gradient(Pst, k, u), nullptr, &P, &Abar_[w]))
         ok = false;
     }
   if (!ok) return false;
@@ -542,8 +542,8 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
             }
         }
       }
-      if (weak_row_[k]) {
-        const Tangent& A = Abar_[k];
+      if (const int w = weak_id_[k]; w >= 0) {
+        const Tangent& A = Abar_[w];
         const Vec3& e = defect_[k];
         for (int a = 0; a < d; ++a)
           for (int b = 0; b < d; ++b)
