@@ -20,7 +20,13 @@
 
 namespace pdcg::solver {
 
-using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+// The reduced tangent uses 64-bit indices, so that UMFPACK runs as umfpack_dl_* and CHOLMOD
+// through its cholmod_l_* interface: the int versions address their workspace with int
+// (at most 2³¹ units) and fail with "out of memory" on the LU of the 2D 1.6·10⁵-point plate
+// (docs/performance.md). Cost at small sizes: 4 more bytes per nonzero of K_ff (measured
+// in docs/performance.md, "Long indices").
+using SolverIndex = SuiteSparse_long;
+using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, SolverIndex>;
 
 LinearSolver parse_linear_solver(const std::string& name) {
   if (name == "cholmod") return LinearSolver::cholmod;
@@ -37,7 +43,7 @@ struct StaticSolver::Solvers {
   Eigen::CholmodSupernodalLLT<SparseCol> cholmod;
   Eigen::UmfPackLU<SparseCol> umfpack;
   Eigen::SparseLU<SparseCol> lu;
-  Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double>> bicg;
+  Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double, SolverIndex>> bicg;
   bool analysed = false;
   // Reduced tangent K_ff in the column-major storage the factorisations read, filled
   // in place from the full row-major K through red_map_ (no per-iteration copy).
@@ -134,7 +140,7 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
     throw NumericalError("the reference configuration is inadmissible for the material");
   // Reduced pattern (column-major) and the map from its value array into K's:
   // build K_ff with each entry's value = its position in K, then read the map off.
-  std::vector<Eigen::Triplet<double, int>> trip;
+  std::vector<Eigen::Triplet<double, SolverIndex>> trip;
   for (int r = 0; r < K_.outerSize(); ++r) {
     if (free_index_[r] < 0) continue;
     for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q) {
@@ -433,7 +439,7 @@ int StaticSolver::tangent_inertia() {
   const SparseCol S = 0.5 * (A + At);
   // Sylvester: P S Pᵀ = L D Lᵀ has as many negative entries of D as S has negative
   // eigenvalues (no pivoting needed unless a pivot is exactly zero: reported as −2).
-  Eigen::SimplicialLDLT<SparseCol, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(S);
+  Eigen::SimplicialLDLT<SparseCol, Eigen::Lower, Eigen::AMDOrdering<SolverIndex>> ldlt(S);
   if (ldlt.info() != Eigen::Success) return -2;
   int neg = 0;
   for (double dk : ldlt.vectorD()) {
