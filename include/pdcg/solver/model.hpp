@@ -108,7 +108,8 @@ class Model {
   std::vector<char> weak_row_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   Csr adjacency_;
-  SparseRow pattern_;
+  std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)
+  void fill_pattern(SparseRow& K) const;
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
   mutable std::vector<double> Ac_;  // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
