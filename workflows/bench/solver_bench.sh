@@ -13,7 +13,8 @@
 #     GMRES, 3D 22³ ≈ 10⁴ points with UMFPACK and GMRES, and GMRES on BIG_GMRES_3D)
 # Environment: SIZES_2D (points per edge, default "50 100 200"), SIZES_3D (default
 #   "8 10 14 18"), COMPARE_2D (default "100"), COMPARE_3D (default "10"): sizes at which
-#   CHOLMOD (energy), GMRES and BiCGSTAB+ILUT also run; BIG_GMRES_3D (default "28": the
+#   CHOLMOD (energy), GMRES and BiCGSTAB+ILUT also run (COMPARE_SOLVERS, default
+#   "cholmod gmres bicgstab", selects among them); BIG_GMRES_3D (default "28": the
 #   largest 3D cube that fits this 23 GB machine with GMRES; 37³ ≈ 5·10⁴ does not, see
 #   docs/performance.md), TOL (Newton tolerance, default 1e-8), OMP_NUM_THREADS (default:
 #   all cores). An empty list (SIZES_2D="") skips that part.
@@ -48,17 +49,17 @@ PY
 for n in ${SIZES_2D-50 100 200}; do
   run 2 "$n" umfpack weak
   if [[ " ${COMPARE_2D-100} " == *" $n "* ]]; then
-    run 2 "$n" cholmod energy
-    run 2 "$n" gmres weak
-    run 2 "$n" bicgstab weak
+    for ls in ${COMPARE_SOLVERS-cholmod gmres bicgstab}; do
+      if [[ $ls == cholmod ]]; then run 2 "$n" cholmod energy; else run 2 "$n" "$ls" weak; fi
+    done
   fi
 done
 for n in ${SIZES_3D-8 10 14 18}; do
   run 3 "$n" umfpack weak
   if [[ " ${COMPARE_3D-10} " == *" $n "* ]]; then
-    run 3 "$n" cholmod energy
-    run 3 "$n" gmres weak
-    run 3 "$n" bicgstab weak
+    for ls in ${COMPARE_SOLVERS-cholmod gmres bicgstab}; do
+      if [[ $ls == cholmod ]]; then run 3 "$n" cholmod energy; else run 3 "$n" "$ls" weak; fi
+    done
   fi
 done
 if [[ "${BIG:-0}" == 1 ]]; then
