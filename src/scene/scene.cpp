@@ -486,7 +486,7 @@ Scene load_scene(const std::filesystem::path& file) {
     }
     if (v["linear"]) {
       s.linear_name =
-          c.choice(v["linear"], "solver.linear", {"cholmod", "umfpack", "lu", "bicgstab"});
+          c.choice(v["linear"], "solver.linear", {"cholmod", "umfpack", "lu", "bicgstab", "gmres"});
       s.newton.linear = solver::parse_linear_solver(s.linear_name);
     }
     if (v["formulation"])

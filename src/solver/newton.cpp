@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <set>
+#include <type_traits>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -17,28 +18,42 @@
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
+#include "pdcg/solver/krylov.hpp"
 
 namespace pdcg::solver {
 
-using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+// The reduced tangent uses 64-bit indices, so that UMFPACK runs as umfpack_dl_* and CHOLMOD
+// through its cholmod_l_* interface: the int versions address their workspace with int
+// (at most 2³¹ units) and fail with "out of memory" on the LU of the 2D 1.6·10⁵-point plate
+// (docs/performance.md). Cost at small sizes: 4 more bytes per nonzero of K_ff (measured
+// in docs/performance.md, "Long indices").
+using SolverIndex = SuiteSparse_long;
+using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, SolverIndex>;
+static_assert(std::is_same_v<SparseCol, SparseColLong>, "SuiteSparse_long is not std::int64_t");
 
 LinearSolver parse_linear_solver(const std::string& name) {
   if (name == "cholmod") return LinearSolver::cholmod;
   if (name == "umfpack") return LinearSolver::umfpack;
   if (name == "lu" || name == "sparse_lu") return LinearSolver::sparse_lu;
   if (name == "bicgstab" || name == "iterative") return LinearSolver::bicgstab;
+  if (name == "gmres") return LinearSolver::gmres;
   throw InputError("unknown linear solver")
       .key("solver.linear")
       .value(name)
-      .expected("one of cholmod, umfpack, lu, bicgstab");
+      .expected("one of cholmod, umfpack, lu, bicgstab, gmres");
 }
 
 struct StaticSolver::Solvers {
   Eigen::CholmodSupernodalLLT<SparseCol> cholmod;
   Eigen::UmfPackLU<SparseCol> umfpack;
   Eigen::SparseLU<SparseCol> lu;
-  Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double>> bicg;
+  Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double, SolverIndex>> bicg;
   bool analysed = false;
+  // gmres: lattice-stiffness preconditioner (factorised once) and the Krylov workspace
+  Eigen::CholmodSupernodalLLT<SparseCol> lattice;
+  bool lattice_ready = false;
+  Gmres gmres;
+  Eigen::VectorXd xfull;  // free vector scattered to all dofs (prescribed = 0)
   // Reduced tangent K_ff in the column-major storage the factorisations read, filled
   // in place from the full row-major K through red_map_ (no per-iteration copy).
   SparseCol Kff;
@@ -128,13 +143,27 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
   }
   u_.setZero(n);
   f_.setZero(n);
-  // Reduced pattern and gather map from the full pattern.
   Eigen::VectorXd f;
   if (!model.internal_force_and_tangent(u_, f, K_))
     throw NumericalError("the reference configuration is inadmissible for the material");
+  solvers_ = std::make_shared<Solvers>();
+  solvers_->gmres = Gmres(opt_.gmres_restart);
+  // The Krylov path multiplies by the free rows of K_ directly: no reduced copy (its
+  // memory is what large 3D runs cannot afford).
+  if (opt_.linear != LinearSolver::gmres) build_reduced();
+  // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
+  // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
+  solvers_->umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+  // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
+  solvers_->umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
+}
+
+void StaticSolver::build_reduced() {
+  if (!red_map_.empty()) return;
+  // Reduced pattern and gather map from the full pattern.
   // Reduced pattern (column-major) and the map from its value array into K's:
   // build K_ff with each entry's value = its position in K, then read the map off.
-  std::vector<Eigen::Triplet<double, int>> trip;
+  std::vector<Eigen::Triplet<double, SolverIndex>> trip;
   for (int r = 0; r < K_.outerSize(); ++r) {
     if (free_index_[r] < 0) continue;
     for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q) {
@@ -144,7 +173,6 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
     }
   }
   const int nf = static_cast<int>(free_dofs_.size());
-  solvers_ = std::make_shared<Solvers>();
   SparseCol& Kff = solvers_->Kff;
   Kff.resize(nf, nf);
   Kff.setFromTriplets(trip.begin(), trip.end());  // no duplicates: one entry per (r, c)
@@ -153,11 +181,6 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
   red_map_.resize(Kff.nonZeros());
   for (Eigen::Index q = 0; q < Kff.nonZeros(); ++q)
     red_map_[q] = static_cast<std::int64_t>(Kff.valuePtr()[q]);
-  // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
-  // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
-  solvers_->umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
-  // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
-  solvers_->umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
 }
 
 void StaticSolver::external_force(double t, Eigen::VectorXd& fext) const {
@@ -234,7 +257,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     }
     // Linear solve.
     auto& S = *solvers_;
-    {
+    if (opt_.linear != LinearSolver::gmres) {
       double* kv = S.Kff.valuePtr();
       const double* fv = K_.valuePtr();
       const auto nnz = static_cast<std::int64_t>(red_map_.size());
@@ -286,7 +309,71 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
         mark();
         dx = S.bicg.solve(rhs);
         ok = S.bicg.info() == Eigen::Success;
+        rep.krylov_iterations += static_cast<int>(S.bicg.iterations());
         break;
+      case LinearSolver::gmres: {
+        if (!S.lattice_ready) {
+          const SparseCol P =
+              lattice_stiffness(model_->body(), model_->material(), free_index_, nf);
+          const SerialBlas serial;
+          S.lattice.compute(P);
+          if (S.lattice.info() != Eigen::Success)
+            throw NumericalError(
+                "GMRES preconditioner: the Cholesky factorisation of the lattice stiffness "
+                "failed (not positive definite: the displacement constraints may not remove "
+                "every rigid motion of some part of the body)");
+          S.lattice_ready = true;
+          S.xfull.setZero(static_cast<Eigen::Index>(n));
+        }
+        mark();
+        // Forcing term (inexact Newton, Eisenstat & Walker 1996): ‖R‖² keeps the quadratic
+        // convergence of the direct solve (each Newton iteration costs an assembly, the
+        // dominant cost in 3D, so Krylov digits are cheaper than Newton iterations), capped
+        // at 1e-4, and no tighter than the next residual needs to meet the tolerance.
+        const double eta =
+            std::min(1e-4, std::max(rnorm * rnorm, 0.1 * opt_.tolerance / std::max(rnorm, 1e-300)));
+        // Threads only for large products: a GMRES iteration has two parallel regions, and
+        // on a loaded machine each barrier can cost a time slice (measured 18× slower with 2
+        // threads than with 1 at 216 points, load 12).
+        const bool threaded = K_.nonZeros() > 4'000'000;
+        const Gmres::Operator apply_K = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+          double* xf = S.xfull.data();
+          const int* fd = free_dofs_.data();
+#pragma omp parallel for schedule(static) if (threaded)
+          for (int i = 0; i < nf; ++i) xf[fd[i]] = in[i];
+          const double* kv = K_.valuePtr();
+          const int* ki = K_.innerIndexPtr();
+          const auto* ko = K_.outerIndexPtr();
+#pragma omp parallel for schedule(static) if (threaded)
+          for (int i = 0; i < nf; ++i) {
+            const int r = fd[i];
+            double s = 0;
+            for (auto q = ko[r]; q < ko[r + 1]; ++q) s += kv[q] * xf[ki[q]];
+            out[i] = s;
+          }
+        };
+        const Gmres::Operator apply_M = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+          const SerialBlas serial;
+          out = S.lattice.solve(in);
+        };
+        const GmresReport g =
+            S.gmres.solve(apply_K, apply_M, rhs, dx, eta, opt_.krylov_max_iterations);
+        rep.krylov_iterations += g.iterations;
+        log::debug("  GMRES: {} iterations, relative residual {:.3e} (forcing {:.1e})",
+                   g.iterations, g.relative_residual, eta);
+        if (!g.converged)
+          throw NumericalError(fmt::format(
+              "GMRES({}) did not converge at load factor {:.6g}, Newton iteration {}: relative "
+              "residual {:.3e} after {} iterations, required {:.1e} (true residual at each "
+              "restart: {:.2e}). The lattice (Q1) preconditioner is too far from the BA "
+              "tangent here — near a loss of stability or ellipticity, with many broken bonds, "
+              "or a very stiff nearly incompressible material — raise krylov_max_iterations "
+              "or use linear: umfpack if its factorisation fits in memory",
+              opt_.gmres_restart, t_target, it, g.relative_residual, g.iterations, eta,
+              fmt::join(g.restart_residuals, " ")));
+        ok = true;
+        break;
+      }
     }
     S.analysed = true;
     const auto t2 = std::chrono::steady_clock::now();
@@ -428,6 +515,7 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
 }
 
 int StaticSolver::tangent_inertia() {
+  build_reduced();
   SparseCol& Kff = solvers_->Kff;
   for (std::size_t q = 0; q < red_map_.size(); ++q) Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
   const SparseCol& A = Kff;
@@ -435,7 +523,7 @@ int StaticSolver::tangent_inertia() {
   const SparseCol S = 0.5 * (A + At);
   // Sylvester: P S Pᵀ = L D Lᵀ has as many negative entries of D as S has negative
   // eigenvalues (no pivoting needed unless a pivot is exactly zero: reported as −2).
-  Eigen::SimplicialLDLT<SparseCol, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(S);
+  Eigen::SimplicialLDLT<SparseCol, Eigen::Lower, Eigen::AMDOrdering<SolverIndex>> ldlt(S);
   if (ldlt.info() != Eigen::Success) return -2;
   int neg = 0;
   for (double dk : ldlt.vectorD()) {
@@ -562,7 +650,8 @@ void StaticSolver::restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, d
 
 void StaticSolver::prepare_restart() {
   auto& S = *solvers_;
-  if (S.analysed || opt_.linear == LinearSolver::bicgstab) return;
+  if (S.analysed || opt_.linear == LinearSolver::bicgstab || opt_.linear == LinearSolver::gmres)
+    return;
   Eigen::VectorXd f;
   if (!model_->internal_force_and_tangent(Eigen::VectorXd::Zero(model_->dofs()), f, K_))
     throw NumericalError("inadmissible reference state while preparing a restart");

@@ -2,15 +2,22 @@
 # BA solver benchmark (issues 6 and 10 §3): per Newton iteration, residual+tangent assembly,
 # factorisation, and the rest of the linear solve (reduction + triangular solves / Krylov
 # iterations), and peak memory, versus the number of points; 2D (plane strain) and 3D unit
-# square / cube, m = 3.015, weak form (UMFPACK) plus the symmetric energy form with CHOLMOD
-# and the iterative fallback (BiCGSTAB + ILUT) at the comparison sizes. Writes
-# $OUT/solver_bench.csv, prints a markdown table and the fitted growth t ∝ N^p.
-#   workflows/bench/solver_bench.sh [OUT=build/bench]
-# Environment: SIZES_2D (points per edge, default "100 200 400" = 10⁴, 4·10⁴, 1.6·10⁵),
-#   SIZES_3D (default "10 14 18 22"; 22³ ≈ 10⁴; 37³ ≈ 5·10⁴), COMPARE_2D (default "100"),
-#   COMPARE_3D (default "10"): sizes at which CHOLMOD (energy form) and BiCGSTAB+ILUT also run,
-#   TOL (Newton tolerance, default 1e-8), OMP_NUM_THREADS (default: all cores). An empty
-#   list (SIZES_2D="") skips that part.
+# square / cube, m = 3.015, weak form (UMFPACK) plus, at the comparison sizes, the symmetric
+# energy form with CHOLMOD, the weak form with GMRES preconditioned by the lattice (Q1)
+# stiffness (linear: gmres) and BiCGSTAB + ILUT. Writes $OUT/solver_bench.csv (one row per
+# run, with the 1-minute load average at its start), prints a markdown table and the fitted
+# growth t ∝ N^p.
+#   workflows/bench/solver_bench.sh [OUT=build/bench]          (minutes)
+#   BIG=1 workflows/bench/solver_bench.sh                       (adds the big cases: ≈ 1 h
+#     on a quiet 2-core machine, ≈ 15 GB peak: 2D 400² = 1.6·10⁵ points with UMFPACK and
+#     GMRES, 3D 22³ ≈ 10⁴ points with UMFPACK and GMRES, and GMRES on BIG_GMRES_3D)
+# Environment: SIZES_2D (points per edge, default "50 100 200"), SIZES_3D (default
+#   "8 10 14 18"), COMPARE_2D (default "100"), COMPARE_3D (default "10"): sizes at which
+#   CHOLMOD (energy), GMRES and BiCGSTAB+ILUT also run (COMPARE_SOLVERS, default
+#   "cholmod gmres bicgstab", selects among them); BIG_GMRES_3D (default "28": the
+#   largest 3D cube that fits this 23 GB machine with GMRES; 37³ ≈ 5·10⁴ does not, see
+#   docs/performance.md), TOL (Newton tolerance, default 1e-8), OMP_NUM_THREADS (default:
+#   all cores). An empty list (SIZES_2D="") skips that part.
 set -euo pipefail
 source "$(dirname "$0")/../lib/setup.sh"
 pdcg_build_target() {  # configure once, build only the given targets
@@ -25,12 +32,13 @@ mkdir -p "$OUT"
 CSV="$OUT/solver_bench.csv"
 BLAS=$(readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null || echo unknown)
 echo "# $(date -u +%FT%TZ) $(uname -n) $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, load: $(cut -d' ' -f1-3 /proc/loadavg), threads: ${OMP_NUM_THREADS:-$(nproc)}, BLAS: $BLAS" >"$CSV"
-KEYS="dim n points linear form newton_iterations assembly_s_per_it factor_s_per_it solve_s_per_it peak_rss_mb"
+KEYS="dim n points linear form newton_iterations krylov_iterations assembly_s_per_it factor_s_per_it solve_s_per_it rss_before_newton_mb peak_rss_mb load1"
 echo "${KEYS// /,}" >>"$CSV"
 run() {
   local line
   # (CHOLMOD prints its warnings on stdout: keep the result line only)
-  line=$("$BIN" "$@" "${TOL:-1e-8}" | grep '^dim=')
+  # (a failed run — out of memory, a NumericalError — is reported and skipped)
+  line=$("$BIN" "$@" "${TOL:-1e-8}" | grep '^dim=') || { echo "run $* failed" >&2; return 0; }
   echo "$line"
   /usr/bin/python3 - "$line" "$KEYS" >>"$CSV" <<'PY'
 import sys
@@ -38,33 +46,43 @@ kv = dict(p.split("=") for p in sys.argv[1].split())
 print(",".join(kv[k] for k in sys.argv[2].split()))
 PY
 }
-for n in ${SIZES_2D-100 200 400}; do
+for n in ${SIZES_2D-50 100 200}; do
   run 2 "$n" umfpack weak
   if [[ " ${COMPARE_2D-100} " == *" $n "* ]]; then
-    run 2 "$n" cholmod energy
-    run 2 "$n" bicgstab weak
+    for ls in ${COMPARE_SOLVERS-cholmod gmres bicgstab}; do
+      if [[ $ls == cholmod ]]; then run 2 "$n" cholmod energy; else run 2 "$n" "$ls" weak; fi
+    done
   fi
 done
-for n in ${SIZES_3D-10 14 18 22}; do
+for n in ${SIZES_3D-8 10 14 18}; do
   run 3 "$n" umfpack weak
   if [[ " ${COMPARE_3D-10} " == *" $n "* ]]; then
-    run 3 "$n" cholmod energy
-    run 3 "$n" bicgstab weak
+    for ls in ${COMPARE_SOLVERS-cholmod gmres bicgstab}; do
+      if [[ $ls == cholmod ]]; then run 3 "$n" cholmod energy; else run 3 "$n" "$ls" weak; fi
+    done
   fi
 done
+if [[ "${BIG:-0}" == 1 ]]; then
+  run 2 400 umfpack weak
+  run 2 400 gmres weak
+  run 3 22 umfpack weak
+  run 3 22 gmres weak
+  for n in ${BIG_GMRES_3D-28}; do run 3 "$n" gmres weak; done
+fi
 /usr/bin/python3 - "$CSV" <<'PY'
 import sys, numpy as np
 lines = open(sys.argv[1]).read().splitlines()
 print(lines[0])
 head = lines[1].split(",")
 rows = [dict(zip(head, l.split(","))) for l in lines[2:] if l and l[0].isdigit()]
-print("| dim | points | linear (form) | Newton its | assembly s/it | factorisation s/it | rest of solve s/it | peak RSS MB | kB/point |")
-print("|---|---:|---|---:|---:|---:|---:|---:|---:|")
+print("| dim | points | linear (form) | Newton its | Krylov its | assembly s/it | factorisation s/it | rest of solve s/it | RSS before Newton MB | peak RSS MB | kB/point | load |")
+print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for r in rows:
     print(f"| {r['dim']} | {int(r['points']):,} | {r['linear']} ({r['form']}) | {r['newton_iterations']} | "
+          f"{r['krylov_iterations']} | "
           f"{float(r['assembly_s_per_it']):.3g} | {float(r['factor_s_per_it']):.3g} | "
-          f"{float(r['solve_s_per_it']):.3g} | {float(r['peak_rss_mb']):.0f} | "
-          f"{1024 * float(r['peak_rss_mb']) / int(r['points']):.0f} |")
+          f"{float(r['solve_s_per_it']):.3g} | {float(r['rss_before_newton_mb']):.0f} | {float(r['peak_rss_mb']):.0f} | "
+          f"{1024 * float(r['peak_rss_mb']) / int(r['points']):.0f} | {r['load1']} |")
 for dim in ("2", "3"):
     r = [x for x in rows if x["dim"] == dim and x["linear"] == "umfpack"]
     if len(r) < 2:

@@ -3,8 +3,9 @@
 // A unit square (2D, plane strain) or cube (3D) with n points per edge, m = 3.015, μ = 1,
 // K = 10, uniaxial stretch λ = 1.05 in one load step (left face x-fixed + pins, right face
 // displaced); times from the solver's own per-step report (summed over the Newton
-// iterations, divided by their number), peak RSS from getrusage.
-// Usage: bench_solver_newton <dim> <n> [linear=umfpack|cholmod|sparselu|bicgstab] [weak|energy]
+// iterations, divided by their number), peak RSS from getrusage (= VmHWM), also before the
+// Newton run (discretisation + model + solver set-up).
+// Usage: bench_solver_newton <dim> <n> [linear=umfpack|cholmod|lu|bicgstab|gmres] [weak|energy]
 //        [tolerance=1e-8]  (a looser tolerance stops after fewer iterations at large sizes)
 // (energy: the symmetric energy boundary form, which CHOLMOD can factorise; the weak
 // form's tangent is unsymmetric and CHOLMOD is replaced by UMFPACK).
@@ -35,6 +36,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   const int dim = std::atoi(argv[1]), n = std::atoi(argv[2]);
+  double load1 = -1;  // 1-minute load average at the start (the machine is shared)
+  if (std::FILE* fl = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(fl, "%lf", &load1) != 1) load1 = -1;
+    std::fclose(fl);
+  }
   const std::string linear = argc > 3 ? argv[3] : "umfpack";
   const std::string form = argc > 4 ? argv[4] : "weak";
   GridSpec g;
@@ -73,6 +79,7 @@ int main(int argc, char** argv) {
   opt.linear = parse_linear_solver(linear);
   StaticSolver solver(M, ds, {}, opt);
   StepReport last;
+  const double rss_before_run = peak_rss_mb();
   t0 = now();
   solver.run([&](const StepReport& r) { last = r; });
   const double t_run = now() - t0;
@@ -80,9 +87,10 @@ int main(int argc, char** argv) {
   std::printf(
       "dim=%d n=%d points=%zu bonds=%zu linear=%s form=%s discretization_s=%.3f model_s=%.3f "
       "newton_iterations=%d assembly_s_per_it=%.4f factor_s_per_it=%.4f solve_s_per_it=%.4f "
-      "run_s=%.3f peak_rss_mb=%.0f\n",
+      "krylov_iterations=%d run_s=%.3f rss_before_newton_mb=%.0f peak_rss_mb=%.0f load1=%.2f\n",
       dim, n, D.size(), D.families().index.size(), linear.c_str(), form.c_str(), t_disc, t_model,
       last.iterations, last.assembly_seconds / it, last.factor_seconds / it,
-      (last.solve_seconds - last.factor_seconds) / it, t_run, peak_rss_mb());
+      (last.solve_seconds - last.factor_seconds) / it, last.krylov_iterations, t_run,
+      rss_before_run, peak_rss_mb(), load1);
   return 0;
 }

@@ -125,6 +125,7 @@ class Model {
   std::vector<int> weak_points_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   Csr adjacency_;
+  std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
   mutable std::vector<double> Ac_;     // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L

@@ -13,7 +13,9 @@
 /// F, J ≤ 0) is restored and retried with half the load increment; the log
 /// says so. Linear solves: CHOLMOD (symmetric tangent, energy boundary form),
 /// UMFPACK (default for the unsymmetric weak form), Eigen SparseLU, or
-/// BiCGSTAB with an incomplete-LU preconditioner for large 3D problems.
+/// BiCGSTAB with an incomplete-LU preconditioner, or restarted GMRES preconditioned by a
+/// CHOLMOD factor of a lattice (Q1 finite-element) stiffness on the same points, for
+/// systems whose LU does not fit in memory (krylov.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -27,7 +29,7 @@
 
 namespace pdcg::solver {
 
-enum class LinearSolver { cholmod, umfpack, sparse_lu, bicgstab };
+enum class LinearSolver { cholmod, umfpack, sparse_lu, bicgstab, gmres };
 LinearSolver parse_linear_solver(const std::string& name);  // throws InputError
 
 /// Prescribed displacement on a point set: component c (0..d−1) gets value(t)
@@ -62,6 +64,10 @@ struct NewtonOptions {
   /// option, a run that fails after all cutbacks reports the inertia of the tangent at
   /// the last converged state in its error message.
   bool check_stability = false;
+  /// GMRES (linear = gmres): restart length and the maximum number of Krylov iterations
+  /// per linear solve; not reaching the forcing tolerance throws NumericalError.
+  int gmres_restart = 50;
+  int krylov_max_iterations = 2000;
 };
 
 struct StepReport {
@@ -74,6 +80,8 @@ struct StepReport {
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
   double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation
+                                  ///< (gmres: building and factorising the preconditioner)
+  int krylov_iterations = 0;      ///< gmres / bicgstab: Krylov iterations, summed
   /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
   /// not checked, −2 if the LDLᵀ met a zero pivot (singular tangent).
   int negative_eigenvalues = -1;
@@ -132,6 +140,8 @@ class StaticSolver {
   bool newton(double t_target, StepReport& rep);
   /// Negative eigenvalues of the free block of K_ (symmetric part), −2 if singular.
   int tangent_inertia();
+  /// Reduced column-major pattern of K_ff and the gather map (direct solvers, inertia).
+  void build_reduced();
 
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
