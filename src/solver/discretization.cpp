@@ -68,6 +68,102 @@ double pddo_stencil(int dim, const std::vector<Vec3>& x, const std::vector<doubl
   return rc;
 }
 
+/// Surface vectors of the points bordering a circular hole (2D) from the true circle: the
+/// points are ordered by their angle θ_k about the centre and point k owns the arc Γ_k between
+/// the mid-angles a_k = (θ_{k−1} + θ_k)/2 and b_k = (θ_k + θ_{k+1})/2 (cyclic), so
+/// s_k = −∫_{Γ_k} n dS = −R (sin b_k − sin a_k, cos a_k − cos b_k) with n the circle's normal
+/// pointing away from the centre (into the body; the body's outward normal on the hole is −n).
+/// The arcs tile the circle, so Σ_k s_k = −∮ n dS = 0 to round-off.
+void circle_surface(const Hole& h, const std::vector<Vec3>& x, std::vector<int> pts,
+                    std::vector<Vec3>& surf) {
+  const std::size_t n = pts.size();
+  if (n < 2) return;  // one point owns the whole circle: ∮ n dS = 0
+  std::vector<std::pair<double, int>> th(n);
+  for (std::size_t k = 0; k < n; ++k)
+    th[k] = {std::atan2(x[pts[k]].y() - h.center.y(), x[pts[k]].x() - h.center.x()), pts[k]};
+  std::sort(th.begin(), th.end());
+  const double R = h.radius, two_pi = 2.0 * std::acos(-1.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    double tp = th[(k + n - 1) % n].first, tn = th[(k + 1) % n].first;
+    const double t = th[k].first;
+    if (k == 0) tp -= two_pi;
+    if (k + 1 == n) tn += two_pi;
+    const double a = 0.5 * (tp + t), b = 0.5 * (t + tn);
+    surf[th[k].second] += -R * Vec3(std::sin(b) - std::sin(a), std::cos(a) - std::cos(b), 0.0);
+  }
+}
+
+/// Surface vectors of the points bordering a spherical hole (3D): a nearest-point partition
+/// of the true sphere. The sphere is cut into cells of uniform polar angle θ and azimuth φ
+/// (edge ≈ Δx/4 at the equator); each cell's exact ∫ n dS is given to the surface point
+/// nearest to the cell's centre, so s_k = −∫_{Γ_k} n dS with Γ_k the union of the cells
+/// nearest to point k (the point's Voronoi region on the sphere, resolved to the cell size).
+/// The cells tile the sphere, so Σ_k s_k = −∮ n dS = 0 to round-off. `lat` are the points'
+/// lattice indices (nearest-point search in the lattice around the cell centre).
+void sphere_surface(const Hole& h, const std::vector<Vec3>& x,
+                    const std::vector<std::array<long, 3>>& lat, const std::vector<int>& pts,
+                    const Vec3& origin, double dx, double shift, std::vector<Vec3>& surf) {
+  if (pts.size() < 2) return;
+  std::array<long, 3> lo, hi;
+  lo.fill(std::numeric_limits<long>::max());
+  hi.fill(std::numeric_limits<long>::min());
+  for (int p : pts)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], lat[p][a]);
+      hi[a] = std::max(hi[a], lat[p][a]);
+    }
+  const long nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+  std::vector<int> box(nx * ny * nz, -1);
+  for (int p : pts)
+    box[(lat[p][0] - lo[0]) + nx * ((lat[p][1] - lo[1]) + ny * (lat[p][2] - lo[2]))] = p;
+  const double R = h.radius, pi = std::acos(-1.0);
+  const long nt = std::max(8L, static_cast<long>(std::ceil(4.0 * pi * R / dx)));
+  const long nf = 2 * nt;
+  const long rmax = std::max({nx, ny, nz});
+  for (long j = 0; j < nt; ++j) {
+    const double t0 = pi * j / nt, t1 = pi * (j + 1) / nt, tc = 0.5 * (t0 + t1);
+    const double m0 = std::cos(t0), m1 = std::cos(t1);
+    // ∫ sin θ dμ-part of n_x, n_y: ∫_{μ1}^{μ0} √(1−μ²) dμ = g(μ0) − g(μ1), g = (μ√(1−μ²) + asin
+    // μ)/2
+    auto g = [](double m) {
+      return 0.5 * (m * std::sqrt(std::max(0.0, 1 - m * m)) + std::asin(m));
+    };
+    const double G = g(m0) - g(m1);
+    for (long l = 0; l < nf; ++l) {
+      const double f0 = 2 * pi * l / nf, f1 = 2 * pi * (l + 1) / nf, fc = 0.5 * (f0 + f1);
+      // ∫ n dS over the cell, dS = R² dμ dφ (θ from the +z axis, μ = cos θ)
+      const Vec3 ndS = R * R *
+                       Vec3(G * (std::sin(f1) - std::sin(f0)), G * (std::cos(f0) - std::cos(f1)),
+                            0.5 * (m0 * m0 - m1 * m1) * (f1 - f0));
+      const Vec3 c = h.center + R * Vec3(std::sin(tc) * std::cos(fc), std::sin(tc) * std::sin(fc),
+                                         std::cos(tc));
+      std::array<long, 3> r0;
+      for (int a = 0; a < 3; ++a) r0[a] = std::lround((c(a) - origin(a)) / dx - shift);
+      int best = -1;
+      double bd = std::numeric_limits<double>::infinity();
+      for (long rho = 0; rho <= rmax; ++rho) {
+        for (long kz = -rho; kz <= rho; ++kz)
+          for (long ky = -rho; ky <= rho; ++ky)
+            for (long kx = -rho; kx <= rho; ++kx) {
+              if (std::max({std::abs(kx), std::abs(ky), std::abs(kz)}) != rho) continue;
+              const long ix = r0[0] + kx - lo[0], iy = r0[1] + ky - lo[1], iz = r0[2] + kz - lo[2];
+              if (ix < 0 || iy < 0 || iz < 0 || ix >= nx || iy >= ny || iz >= nz) continue;
+              const int p = box[ix + nx * (iy + ny * iz)];
+              if (p < 0) continue;
+              const double dd = (x[p] - c).norm();
+              if (dd < bd || (dd == bd && p < best)) {
+                bd = dd;
+                best = p;
+              }
+            }
+        // every point of ring ρ + 1 is at least (ρ + 1/2) Δx from c
+        if (best >= 0 && bd < (rho + 0.5) * dx) break;
+      }
+      surf[best] -= ndS;
+    }
+  }
+}
+
 }  // namespace
 
 Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOptions& opt) {
@@ -148,6 +244,35 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
     throw InputError("the geometry holds no grid point")
         .key("geometry")
         .fix("check size, spacing and holes");
+  // Holes whose surface vectors come from the true circle / sphere: entirely inside the box
+  // and disjoint from every other hole (otherwise the staircase faces below are kept).
+  const std::size_t nh = spec.holes.size();
+  std::vector<char> exact(nh, 1);
+  auto planar = [&](Vec3 r) {
+    if (d == 2) r.z() = 0;
+    return r;
+  };
+  for (std::size_t h = 0; h < nh; ++h) {
+    const auto& H = spec.holes[h];
+    for (int a = 0; a < d; ++a)
+      if (H.center(a) - H.radius < spec.origin(a) ||
+          H.center(a) + H.radius > spec.origin(a) + spec.size(a))
+        exact[h] = 0;
+    for (std::size_t o = 0; o < nh; ++o)
+      if (o != h &&
+          planar(H.center - spec.holes[o].center).norm() < H.radius + spec.holes[o].radius)
+        exact[h] = 0;
+  }
+  // The hole a missing neighbour q lies in (−1: none, q is outside the box).
+  auto hole_of = [&](const Vec3& q) {
+    for (int a = 0; a < d; ++a)
+      if (q(a) < spec.origin(a) - slack || q(a) > spec.origin(a) + spec.size(a) + slack) return -1;
+    for (std::size_t h = 0; h < nh; ++h)
+      if (planar(q - spec.holes[h].center).norm() < spec.holes[h].radius * (vert ? 1 + 1e-9 : 1.0))
+        return static_cast<int>(h);
+    return -1;
+  };
+  std::vector<std::vector<int>> on_hole(nh);
   std::vector<Vec3> surf(x.size(), Vec3::Zero());
   for (std::size_t i = 0; i < x.size(); ++i)
     for (int a = 0; a < d; ++a)
@@ -158,6 +283,14 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
         l[a] += sgn;
         const Vec3 q = node(l[0], l[1], l[2]);
         bool face = !inside(q);
+        if (face) {
+          const int h = hole_of(q);
+          if (h >= 0 && exact[h]) {  // s_k from the true surface below
+            if (on_hole[h].empty() || on_hole[h].back() != static_cast<int>(i))
+              on_hole[h].push_back(static_cast<int>(i));
+            continue;
+          }
+        }
         for (const auto& c : spec.cracks) face = face || crosses(c, x[i], q);
         if (!face) continue;
         double area = 1;  // the dual-cell face normal to axis a
@@ -165,6 +298,12 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
           if (b != a) area *= extent[i](b);
         surf[i] += area * e;
       }
+  for (std::size_t h = 0; h < nh; ++h) {
+    if (d == 2)
+      circle_surface(spec.holes[h], x, on_hole[h], surf);
+    else
+      sphere_surface(spec.holes[h], x, lattice, on_hole[h], spec.origin, dx, shift, surf);
+  }
   return from_points(d, std::move(x), std::move(vol), std::move(surf), dx, spec.cracks, opt);
 }
 

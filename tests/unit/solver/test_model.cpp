@@ -82,11 +82,73 @@ TEST(Discretization, HolesAndCracks) {
   // Crack faces are surface: points just below the crack have an upward face.
   bool found = false;
   for (std::size_t i = 0; i < D.size(); ++i)
-    if (std::abs(D.positions()[i].y() - 0.475) < 1e-9 && D.positions()[i].x() < 0.3) {
+    // (x < 0.25: the point at x = 0.275 also borders the hole, whose arc adds to its s_k)
+    if (std::abs(D.positions()[i].y() - 0.475) < 1e-9 && D.positions()[i].x() < 0.25) {
       EXPECT_NEAR(D.surface()[i].y(), 0.05, 1e-14);
       found = true;
     }
   EXPECT_TRUE(found);
+}
+
+TEST(Discretization, HoleSurfaceVectorsFromTheTrueCircleAndSphere) {
+  // The points bordering a hole carry s_k = −∫_{Γ_k} n dS over the part Γ_k of the true
+  // circle / sphere they own (docs/solver.md §3), checked against the geometry alone:
+  //  · Σ s_k over the hole = −∮ n dS = 0 (the parts tile the surface; round-off only);
+  //  · Σ |s_k| = perimeter 2πR / area 4πR² up to the chord deficit of each part
+  //    (|∫_Γ n| < |Γ| by ≈ (angle subtended)²/24 relative: ≤ 0.4% for parts of ≲ 0.3 rad);
+  //  · the half facing +x carries −∫ n_x dS = −2R (circle) / −πR² (sphere) up to the
+  //    ownership split at n_x ≈ 0 (second order in the split's angular offset, ≤ 1%);
+  //  · every s_k points into the hole, and the straight outer edges keep their exact faces.
+  for (int dim : {2, 3})
+    for (auto nodes : {GridNodes::cell_centres, GridNodes::vertices}) {
+      GridSpec g;
+      g.dimension = dim;
+      g.nodes = nodes;
+      g.spacing = 0.05;
+      g.size = dim == 2 ? Vec3(1.0, 0.8, 1.0) : Vec3(1.0, 1.0, 1.0);
+      const Hole hole{dim == 2 ? Vec3(0.6, 0.37, 0) : Vec3(0.48, 0.53, 0.51),
+                      dim == 2 ? 0.17 : 0.27};
+      g.holes.push_back(hole);
+      DiscretizationOptions o;
+      o.horizon_factor = 2.015;
+      const auto D = Discretization::grid(g, o);
+      Vec3 sum = Vec3::Zero(), right = Vec3::Zero(), left = Vec3::Zero();
+      double mag = 0;
+      std::size_t n = 0;
+      for (std::size_t i = 0; i < D.size(); ++i) {
+        Vec3 r = D.positions()[i] - hole.center;
+        if (dim == 2) r.z() = 0;
+        const Vec3& s = D.surface()[i];
+        if (D.positions()[i].x() < 1e-9 + (nodes == GridNodes::vertices ? 0 : 0.025)) left += s;
+        if (r.norm() > hole.radius + 2 * g.spacing) continue;
+        sum += s;
+        mag += s.norm();
+        if (r.x() > 0) right += s;
+        if (s.norm() > 0) {
+          ++n;
+          EXPECT_LT(s.dot(r), 0.0) << dim << " " << D.positions()[i].transpose();
+        }
+      }
+      const double pi = std::acos(-1.0), R = hole.radius;
+      const double full = dim == 2 ? 2 * pi * R : 4 * pi * R * R;
+      const double half = dim == 2 ? 2 * R : pi * R * R;
+      std::printf(
+          "dim %d nodes %d: %zu hole points, |Σ s| = %.2e, Σ|s| / full = %.6f, "
+          "right half Σ s_x / exact = %.6f\n",
+          dim, static_cast<int>(nodes), n, sum.norm(), mag / full, -right.x() / half);
+      EXPECT_LT(sum.norm(), 1e-13 * full);
+      EXPECT_NEAR(mag / full, 1.0, 4e-3);
+      EXPECT_NEAR(-right.x() / half, 1.0, 1e-2);
+      EXPECT_NEAR(left.x(), -(dim == 2 ? 0.8 : 1.0), 1e-13);  // outer edge unchanged
+    }
+  // A hole that reaches past the box keeps the staircase faces (axis-aligned s_k).
+  GridSpec g;
+  g.spacing = 0.05;
+  g.holes.push_back({Vec3(1.0, 0.5, 0), 0.2});
+  const auto D = Discretization::grid(g);
+  for (const auto& s : D.surface())
+    for (int a = 0; a < 2; ++a)  // sums of whole cell faces of length Δx
+      EXPECT_NEAR(s(a) / g.spacing, std::round(s(a) / g.spacing), 1e-12) << s.transpose();
 }
 
 TEST(Discretization, BadInputIsReported) {

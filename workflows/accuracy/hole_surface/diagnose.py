@@ -5,8 +5,9 @@ For the 'faces' layout of accuracy.py (d = 0.05, one step) at each spacing and m
  (a) the internal force of pdcg's discrete operator at the FEM solution (P2 quarter mesh 48x24,
      evaluated at the points): on free points it is the consistency (truncation) residual;
      its rms over the hole's surface layer (points within 2.5 dx of the circle), divided by
-     dx, is a traction error; printed with the staircase s_k (pdcg) and with s_k from the
-     true circle (driver mode 1);
+     dx, is a traction error; printed with pdcg's own s_k (driver mode 0: the staircase until the
+     grid path took the true circle, docs/solver.md §2; since then equal to mode 1) and with s_k
+     from the true circle re-applied by the driver (mode 1, the prototype);
  (b) the solve with either s_k: reaction, field error e_u (x and y parts), mean lateral strain
      eps_yy (volume-weighted affine fit) and the vertical closure of the hole (u_y of the points
      just above and below it on x = 0.5), each against the FEM at the same points.
@@ -46,7 +47,7 @@ def main():
             with open(scene, "w") as f:
                 f.write(accuracy.SCENE.format(h=h, m=m + 0.015, d=D, steps=1, tol=1e-10, linear="umfpack",
                                               x0=repr(-h / 2), lx=repr(1.0 + h)))
-            for mode, name in ((0, "staircase"), (1, "circle")):
+            for mode, name in ((0, "pdcg"), (1, "circle")):
                 out = os.path.join(a.work, f"h{h}_m{m}_{mode}")
                 subprocess.run([drv, scene, "-", out + ".sol", str(mode), str(R_HOLE), str(D)], check=True,
                                capture_output=True)

@@ -1,5 +1,6 @@
 // Diagnosis driver (docs/accuracy-cost.md §1, "Cause of the lateral-strain error"): the plate
-// with a hole of a pdcg scene, with the grid's staircase surface vectors s_k (mode 0) or with
+// with a hole of a pdcg scene, with the grid's surface vectors s_k (mode 0; the staircase until
+// Discretization::grid took the true circle itself, docs/solver.md §2) or with
 // s_k of the hole's points replaced by the exact ∫ n dS of the true circle (mode 1: the hole's
 // surface points sorted by angle, each owning the arc between the mid-angles to its neighbours,
 // s_k = −R (sin b − sin a, cos a − cos b); Σ s_k over the hole stays 0).
