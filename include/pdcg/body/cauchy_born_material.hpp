@@ -30,6 +30,33 @@
 
 namespace pdcg::body {
 
+namespace detail {
+/// The solver's view of a Cauchy–Born state scaled by `scale` (1 for the body-level W, 1/V_p
+/// for a point's share): ψ, P and A copied out; in 2D the out-of-plane row/column of P and
+/// the corresponding rows/columns of A are zeroed (plane strain, F₃₃ = 1). False for a
+/// non-finite energy (the solver treats the state as inadmissible).
+inline bool copy_cauchy_born_state(const CauchyBornState& s, double scale, int dimension,
+                                   double* psi, solver::Mat3* P, solver::Tangent* A) {
+  if (!std::isfinite(s.W)) return false;
+  if (psi) *psi = scale * s.W;
+  if (P) {
+    *P = scale * s.P;
+    if (dimension == 2) {
+      P->row(2).setZero();
+      P->col(2).setZero();
+    }
+  }
+  if (A) {
+    *A = scale * s.A;
+    if (dimension == 2)
+      for (int r = 0; r < 9; ++r)
+        for (int c = 0; c < 9; ++c)
+          if (r / 3 == 2 || r % 3 == 2 || c / 3 == 2 || c % 3 == 2) (*A)(r, c) = 0.0;
+  }
+  return true;
+}
+}  // namespace detail
+
 class CauchyBornMaterial final : public solver::Material {
  public:
   explicit CauchyBornMaterial(std::shared_ptr<const Body> body, std::string source = {})
@@ -47,24 +74,8 @@ class CauchyBornMaterial final : public solver::Material {
                 solver::Tangent* A) const override {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
-    const CauchyBornState s = cb_->evaluate(Ff, A != nullptr);
-    if (!std::isfinite(s.W)) return false;
-    if (psi) *psi = s.W;
-    if (P) {
-      *P = s.P;
-      if (dimension() == 2) {
-        P->row(2).setZero();
-        P->col(2).setZero();
-      }
-    }
-    if (A) {
-      *A = s.A;
-      if (dimension() == 2)
-        for (int r = 0; r < 9; ++r)
-          for (int c = 0; c < 9; ++c)
-            if (r / 3 == 2 || r % 3 == 2 || c / 3 == 2 || c % 3 == 2) (*A)(r, c) = 0.0;
-    }
-    return true;
+    return detail::copy_cauchy_born_state(cb_->evaluate(Ff, A != nullptr), 1.0, dimension(), psi, P,
+                                          A);
   }
   solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {
     if (dimension() == 3) return F;
@@ -146,23 +157,7 @@ class PerPointCauchyBornMaterial final : public solver::Material {
  private:
   bool finish(const CauchyBornState& s, double scale, double* psi, solver::Mat3* P,
               solver::Tangent* A) const {
-    if (!std::isfinite(s.W)) return false;
-    if (psi) *psi = scale * s.W;
-    if (P) {
-      *P = scale * s.P;
-      if (dimension() == 2) {
-        P->row(2).setZero();
-        P->col(2).setZero();
-      }
-    }
-    if (A) {
-      *A = scale * s.A;
-      if (dimension() == 2)
-        for (int r = 0; r < 9; ++r)
-          for (int c = 0; c < 9; ++c)
-            if (r / 3 == 2 || r % 3 == 2 || c / 3 == 2 || c % 3 == 2) (*A)(r, c) = 0.0;
-    }
-    return true;
+    return detail::copy_cauchy_born_state(s, scale, dimension(), psi, P, A);
   }
   std::shared_ptr<const Body> body_;
   std::shared_ptr<const CauchyBorn> cb_;
