@@ -14,6 +14,7 @@
 set -euo pipefail
 source "$(dirname "$0")/lib/setup.sh"
 pdcg_install_dependencies
+mkdir -p "$PDCG_BUILD"  # a fresh clone has no build/ yet: the log goes there
 pdcg_build > "$PDCG_BUILD/quickstart-build.log" 2>&1 || { tail -40 "$PDCG_BUILD/quickstart-build.log"; exit 1; }
 
 out="$PDCG_ROOT/results/quickstart"
