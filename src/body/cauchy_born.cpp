@@ -269,6 +269,19 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
   }
 }
 
+namespace {
+/// s += w·(ψ, P, A) of one family, P as 9 row-major values (3i + J), A as 81 ((9r + q));
+/// `a81 == nullptr`: no tangent.
+void accumulate(CauchyBornState& s, double w, double psi, const double* p9, const double* a81) {
+  s.W += w * psi;
+  for (int i = 0; i < 3; ++i)
+    for (int J = 0; J < 3; ++J) s.P(i, J) += w * p9[3 * i + J];
+  if (a81)
+    for (int r = 0; r < 9; ++r)
+      for (int q = 0; q < 9; ++q) s.A(r, q) += w * a81[9 * r + q];
+}
+}  // namespace
+
 CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) const {
   if (reps_.size() <= 64) {
     // Few distinct environments (perfect crystals, their coarse models): one family per class,
@@ -281,12 +294,7 @@ CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) con
     for (std::size_t c = 0; c < reps_.size(); ++c) {
       family(reps_[c], F, tangent, scratch, psi, p9, a81);
       const double w = rep_weight_[c];
-      s.W += w * psi;
-      for (int i = 0; i < 3; ++i)
-        for (int J = 0; J < 3; ++J) s.P(i, J) += w * p9[3 * i + J];
-      if (tangent)
-        for (int r = 0; r < 9; ++r)
-          for (int q = 0; q < 9; ++q) s.A(r, q) += w * a81[9 * r + q];
+      accumulate(s, w, psi, p9, tangent ? a81 : nullptr);
     }
     const double V = body_.reference_volume();
     s.W /= V;
@@ -312,14 +320,7 @@ CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) con
             h.weight[static_cast<std::size_t>(c)];
   }
   for (std::size_t k = 0; k < N; ++k) {
-    s.W += wk[k] * psi[k];
-    for (int i = 0; i < 3; ++i)
-      for (int J = 0; J < 3; ++J)
-        s.P(i, J) += wk[k] * p[9 * k + static_cast<std::size_t>(3 * i + J)];
-    if (tangent)
-      for (int r = 0; r < 9; ++r)
-        for (int c = 0; c < 9; ++c)
-          s.A(r, c) += wk[k] * a[81 * k + static_cast<std::size_t>(9 * r + c)];
+    accumulate(s, wk[k], psi[k], p.data() + 9 * k, tangent ? a.data() + 81 * k : nullptr);
   }
   s.W /= V;
   s.P /= V;
@@ -336,12 +337,7 @@ CauchyBornState CauchyBorn::point_sum(std::size_t p, const Eigen::Matrix3d& F, b
     const auto cc = static_cast<std::size_t>(c);
     family(pt_rep_[cc], F, tangent, scratch, psi, p9, a81);
     const double w = pt_weight_[cc];
-    s.W += w * psi;
-    for (int i = 0; i < 3; ++i)
-      for (int J = 0; J < 3; ++J) s.P(i, J) += w * p9[3 * i + J];
-    if (tangent)
-      for (int r = 0; r < 9; ++r)
-        for (int q = 0; q < 9; ++q) s.A(r, q) += w * a81[9 * r + q];
+    accumulate(s, w, psi, p9, tangent ? a81 : nullptr);
   }
   return s;
 }
