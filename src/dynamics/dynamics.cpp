@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "eam_kernel.hpp"
 #include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/atomic_output.hpp"
@@ -337,8 +338,10 @@ std::vector<double> velocities_from_atoms(const body::Body& body, const atomisti
   return v;
 }
 
+bool eam_vector_kernel_available() { return detail::eam_avx2_available(); }
+
 VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0,
-                               std::vector<double> v0, double dt)
+                               std::vector<double> v0, double dt, Kernels kernels)
     : body_(body), ev_(body), y_(std::move(y0)), v_(std::move(v0)), dt_(dt) {
   check_masses(body, "body");
   if (!(dt > 0.0) || !std::isfinite(dt))
@@ -366,6 +369,9 @@ VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0,
                })))
     eam_ = nullptr;  // the general path reports the bad type (NaN force states)
   if (half_ || eam_) setup_half();
+  // the vector EAM passes (no special factors)
+  if (eam_ && kernels == Kernels::automatic && half_factor_.empty() && detail::eam_avx2_available())
+    eam_rows_ = std::make_shared<const detail::EamRows>(detail::make_eam_rows(*eam_));
   evaluate();
 }
 
@@ -409,14 +415,18 @@ void VelocityVerlet::setup_half() {
     half_offset_[k + 1] = static_cast<std::int64_t>(half_neighbor_.size());
     widest = std::max(widest, half_offset_[k + 1] - half_offset_[k]);
   }
+  // padding: the vector EAM passes read the neighbours (and their types) in blocks of 4
+  half_neighbor_.insert(half_neighbor_.end(), 3, 0);
+  half_type_.insert(half_type_.end(), 3, 1);
   if (n + ghost_atom_.size() > static_cast<size_t>(std::numeric_limits<std::int32_t>::max()))
     throw std::length_error("setup_half: more than 2^31 points and ghosts");
   const size_t next = n + ghost_atom_.size();
-  y_.resize(3 * next);
-  f_.resize(3 * next);
+  // + 1: the vector EAM passes read and update 4 doubles per point
+  y_.resize(3 * next + 1);
+  f_.resize(3 * next + 1);
   update_ghosts();
   const int threads = omp_get_max_threads();
-  thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * next));
+  thread_f_.assign(static_cast<size_t>(threads), std::vector<double>(3 * next + 1));
   thread_y_.assign(static_cast<size_t>(threads),
                    std::vector<double>(3 * static_cast<size_t>(widest) + 3));
   thread_t_.assign(static_cast<size_t>(threads),
@@ -480,6 +490,12 @@ void VelocityVerlet::evaluate_eam() {
   const double* fac = half_factor_.empty() ? nullptr : half_factor_.data();
   double* rho = rho_.data();
   double* fp = fp_.data();
+  const detail::EamRows* rows = eam_rows_.get();
+  detail::EamHalf hf;
+  hf.offset = off;
+  hf.neighbor = nb;
+  hf.neighbor_type = nbt;
+  hf.type = type;
   double energy = 0.0;
 #pragma omp parallel num_threads(nthreads) reduction(+ : energy) if (n > 2048)
   {
@@ -490,9 +506,12 @@ void VelocityVerlet::evaluate_eam() {
     update_ghosts();
     std::fill(trho, trho + next, 0.0);
     std::fill(f, f + 3 * next, 0.0);
+    // this thread's static block of points in the two pair passes
+    const std::int64_t k0 = n * static_cast<std::int64_t>(tid) / used;
+    const std::int64_t k1 = n * (static_cast<std::int64_t>(tid) + 1) / used;
     // pass 1: ρ̄ (PairEAM::compute, density of j at k and of k at j from one distance)
-#pragma omp for schedule(static) nowait
-    for (std::int64_t k = 0; k < n; ++k) {
+    if (rows) detail::eam_density_avx2(*rows, hf, k0, k1, y, trho);
+    for (std::int64_t k = rows ? k1 : k0; k < k1; ++k) {
       const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
       const int kt = type[k];
       double rk = 0.0;
@@ -539,8 +558,8 @@ void VelocityVerlet::evaluate_eam() {
       fp[g] = fp[ga[g - n]];
     }
     // pass 3: pair forces and energies
-#pragma omp for schedule(static) nowait
-    for (std::int64_t k = 0; k < n; ++k) {
+    if (rows) energy += detail::eam_forces_avx2(*rows, hf, k0, k1, y, fp, f);
+    for (std::int64_t k = rows ? k1 : k0; k < k1; ++k) {
       const double xk = y[3 * k], yk = y[3 * k + 1], zk = y[3 * k + 2];
       const int kt = type[k];
       const double fpk = fp[k];

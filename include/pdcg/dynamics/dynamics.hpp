@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +32,10 @@
 #include "pdcg/body/body.hpp"
 
 namespace pdcg::dynamics {
+
+namespace detail {
+struct EamRows;
+}
 
 struct StableStep {
   double omega_bound = 0.0;      ///< Gershgorin bound on ω_max (time units of the body)
@@ -69,12 +74,21 @@ struct Thermo {
   double temperature = 0.0;  ///< 2 KE / (dof k_B), dof = d(N − 1)
 };
 
+/// Force kernels of VelocityVerlet: `automatic` takes the vector variant where one exists and
+/// the CPU runs it (native EAM without special factors on AVX2 + FMA CPUs, chosen at run time),
+/// `scalar` always the scalar loops (for tests comparing the two; results agree to round-off).
+enum class Kernels { automatic, scalar };
+
+/// True when the vector EAM kernel is compiled in and this CPU has AVX2 and FMA.
+bool eam_vector_kernel_available();
+
 /// Velocity Verlet over a body. Allocates nothing in step() (after construction); OpenMP over
 /// points in the updates and in the force evaluation.
 class VelocityVerlet {
  public:
   /// y0, v0: 3N positions (unwrapped, body order) and velocities. dt > 0.
-  VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt);
+  VelocityVerlet(const body::Body& body, std::vector<double> y0, std::vector<double> v0, double dt,
+                 Kernels kernels = Kernels::automatic);
 
   /// One step. energy = false lets the pair kernel skip Σφ (LAMMPS evaluates energies only
   /// on thermo steps, eflag); thermo() then computes the potential energy on demand.
@@ -88,6 +102,9 @@ class VelocityVerlet {
   std::span<const double> positions() const { return {y_.data(), v_.size()}; }
   std::span<const double> velocities() const { return v_; }
   std::span<const double> forces() const { return {f_.data(), v_.size()}; }
+  /// True when the force evaluation runs the vector EAM kernel (Kernels::automatic, native EAM
+  /// without special factors, AVX2 + FMA CPU).
+  bool vector_eam() const { return eam_rows_ != nullptr; }
 
  private:
   void evaluate(bool energy = true);
@@ -110,8 +127,8 @@ class VelocityVerlet {
   /// each evaluation; their forces are added to their points after it. Replaces a 3-double
   /// image shift per half bond by one ghost per distinct (point, image).
   std::vector<std::int32_t> ghost_atom_;
-  std::vector<double> ghost_shift_;  ///< 3 per ghost: H·n
-  std::vector<int> type_ext_;        ///< types of points and ghosts
+  std::vector<double> ghost_shift_;                    ///< 3 per ghost: H·n
+  std::vector<int> type_ext_;                          ///< types of points and ghosts
   mutable std::vector<std::vector<double>> thread_f_;  ///< mutable: scratch of pair_energy()
   std::vector<std::vector<double>> thread_y_, thread_t_;
   /// Native EAM without molecular bonds (Potential::eam_view): the LAMMPS scheme over the half
@@ -120,6 +137,9 @@ class VelocityVerlet {
   const atomistic::EamView* eam_ = nullptr;
   std::vector<double> rho_, fp_;
   std::vector<std::vector<double>> thread_rho_;
+  /// The EAM tables in the vector kernel's row layout (null: the scalar loops), see
+  /// src/dynamics/eam_kernel.hpp. The half-family arrays then carry 3 padding entries.
+  std::shared_ptr<const detail::EamRows> eam_rows_;
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;
