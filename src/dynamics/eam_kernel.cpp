@@ -81,7 +81,7 @@ PDCG_EAM_TARGET inline void transpose(__m256d a, __m256d b, __m256d c, __m256d d
 /// = −Y = y_k − y_j; row: the byte offsets of the lanes' table rows (m·stride·8).
 struct Block {
   __m256d dx, dy, dz, r, p, mask;
-  alignas(16) std::int32_t row[4];
+  alignas(32) std::int64_t row[4];
 };
 
 template <int kStride>
@@ -116,8 +116,8 @@ PDCG_EAM_TARGET inline void block(Block& B, const double* y, const std::int32_t*
   const __m256d q = _mm256_add_pd(rr, one);
   const __m128i m = _mm_max_epi32(_mm_min_epi32(_mm256_cvttpd_epi32(q), nr1), _mm_set1_epi32(1));
   B.p = _mm256_min_pd(_mm256_sub_pd(q, _mm256_cvtepi32_pd(m)), one);
-  _mm_store_si128(reinterpret_cast<__m128i*>(B.row),
-                  _mm_mullo_epi32(m, _mm_set1_epi32(8 * kStride)));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(B.row),
+                     _mm256_cvtepi32_epi64(_mm_mullo_epi32(m, _mm_set1_epi32(8 * kStride))));
 }
 
 PDCG_EAM_TARGET inline double hsum(__m256d v) {
@@ -223,7 +223,7 @@ PDCG_EAM_TARGET double forces(const EamRows& R, const EamHalf& h, std::int64_t k
                   zk = _mm256_set1_pd(y[3 * k + 2]);
     const __m256d fpk = _mm256_set1_pd(fp[k]);
     const std::int32_t* pk = kSingle ? nullptr : pair_knot + type[k] * n1;
-    __m256d fx = zero, fy = zero, fz = zero;  // Σ s·(−Y)
+    __m256d fk = zero;  // (Σ s·(−Y), 0)
     const std::int64_t b1 = offset[k + 1];
     for (std::int64_t b = offset[k]; b < b1; b += 4) {
       const std::int32_t* nb = neighbor + b;
@@ -266,12 +266,10 @@ PDCG_EAM_TARGET double forces(const EamRows& R, const EamHalf& h, std::int64_t k
       energy = _mm256_add_pd(energy, _mm256_and_pd(B.mask, phi));
       const __m256d tx = _mm256_mul_pd(s, B.dx), ty = _mm256_mul_pd(s, B.dy),
                     tz = _mm256_mul_pd(s, B.dz);
-      fx = _mm256_add_pd(fx, tx);
-      fy = _mm256_add_pd(fy, ty);
-      fz = _mm256_add_pd(fz, tz);
       // (tx, ty, tz, 0) per lane; f_j += s·(−Y) as 4 doubles (the 4th: the next value + 0)
       __m256d t0, t1, t2, t3;
       transpose(tx, ty, tz, zero, t0, t1, t2, t3);
+      fk = _mm256_add_pd(fk, _mm256_add_pd(_mm256_add_pd(t0, t1), _mm256_add_pd(t2, t3)));
       double* f0 = f + 3 * static_cast<std::int64_t>(nb[0]);
       _mm256_storeu_pd(f0, _mm256_add_pd(_mm256_loadu_pd(f0), t0));
       double* f1 = f + 3 * static_cast<std::int64_t>(nb[1]);
@@ -281,9 +279,7 @@ PDCG_EAM_TARGET double forces(const EamRows& R, const EamHalf& h, std::int64_t k
       double* f3 = f + 3 * static_cast<std::int64_t>(nb[3]);
       _mm256_storeu_pd(f3, _mm256_add_pd(_mm256_loadu_pd(f3), t3));
     }
-    f[3 * k] -= hsum(fx);
-    f[3 * k + 1] -= hsum(fy);
-    f[3 * k + 2] -= hsum(fz);
+    _mm256_storeu_pd(f + 3 * k, _mm256_sub_pd(_mm256_loadu_pd(f + 3 * k), fk));
   }
   return hsum(energy);
 }
