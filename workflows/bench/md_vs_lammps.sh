@@ -9,7 +9,11 @@
 # `lmp` and `lmp -sf opt`. With CALLGRIND=1, also counts instructions (valgrind
 # --tool=callgrind, Ir of the integration loop only: pdcg VelocityVerlet::step, LAMMPS
 # Verlet::run) on a small crystal (CG_CELLS, default 10: 4000 atoms, CG_STEPS 20 steps, one
-# thread): robust on a loaded machine. SYSTEMS="lj eam" selects the systems.
+# thread): robust on a loaded machine. SYSTEMS="lj eam" selects the systems. With CPU=1, also
+# one-thread rates in CPU time (on-CPU seconds of the loop, which a loaded machine does not
+# stretch by descheduling): LAMMPS "Loop time" × its "% CPU use", pdcg the process CPU time
+# (getrusage of the child) of a CPU_STEPS-step run (default 100: the setup's own spread must
+# be small against the loop) minus that of a 0-step run (setup), best of REPEAT each.
 # Trajectories (same forces, 100 steps) are checked against lmp by tests/cli/md.sh and
 # tests/unit/dynamics (ctest -L dynamics).
 # Usage: workflows/bench/md_vs_lammps.sh [PDCG] [--write-docs]   (a few minutes)
@@ -76,12 +80,16 @@ LMP
     rm -f b.h5 c.data v.dump cg.pdcg cg.lmp cg.opt
     return
   fi
-  local lt=1e30 ot=1e30 t_ i
+  local lt=1e30 ot=1e30 lc=1e30 oc=1e30 t_ c_ i
   for ((i = 0; i < REPEAT; i++)); do
     t_=$(OMP_NUM_THREADS=1 lmp -in in.run -screen none -log lmp.log >/dev/null 2>&1; grep "^Loop time" lmp.log | awk '{print $4}')
+    c_=$(python3 -c "print($t_ * $(sed -n 's/^\([0-9.]*\)% CPU use.*/\1/p' lmp.log) / 100)")
     lt=$(python3 -c "print(min($lt, $t_))")
+    lc=$(python3 -c "print(min($lc, $c_))")
     t_=$(OMP_NUM_THREADS=1 lmp -sf opt -in in.run -screen none -log lmp.log >/dev/null 2>&1; grep "^Loop time" lmp.log | awk '{print $4}')
+    c_=$(python3 -c "print($t_ * $(sed -n 's/^\([0-9.]*\)% CPU use.*/\1/p' lmp.log) / 100)")
     ot=$(python3 -c "print(min($ot, $t_))")
+    oc=$(python3 -c "print(min($oc, $c_))")
   done
   local lrate orate best
   lrate=$(python3 -c "print(f'{$natoms*$STEPS/$lt:.4g}')")
@@ -102,9 +110,28 @@ LMP
     rows+=("| $name | $natoms | $t | $r | $lrate | $orate | $ratio | $(cut -d' ' -f1 /proc/loadavg) |")
     echo "${rows[-1]}"
   done
+  if [ "${CPU:-0}" = 1 ]; then
+    local c0=1e30 c1=1e30
+    for ((i = 0; i < REPEAT; i++)); do
+      c_=$(cputime "$PDCG" md b.h5 --steps 0 --dt "$dt" --velocities v.dump)
+      c0=$(python3 -c "print(min($c0, $c_))")
+      c_=$(cputime "$PDCG" md b.h5 --steps "${CPU_STEPS:-100}" --dt "$dt" --velocities v.dump)
+      c1=$(python3 -c "print(min($c1, $c_))")
+    done
+    cpurows+=("| $name | $natoms | $(python3 -c "a=$natoms*$STEPS; p=$natoms*${CPU_STEPS:-100}/($c1-$c0); l=a/$lc; o=a/$oc; print(f'{p:.4g} | {l:.4g} | {o:.4g} | {p/max(l, o):.2f}')") | $(cut -d' ' -f1 /proc/loadavg) |")
+    echo "CPU: ${cpurows[-1]}"
+  fi
   rm -f b.h5 c.data v.dump
 }
+# on-CPU seconds of a one-thread command (getrusage of the child: user + system)
+cputime() {
+  OMP_NUM_THREADS=1 python3 -c "import resource, subprocess, sys
+subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+r = resource.getrusage(resource.RUSAGE_CHILDREN)
+print(r.ru_utime + r.ru_stime)" "$@"
+}
 cgrows=()
+cpurows=()
 if [ "${CALLGRIND:-0}" = 1 ]; then
   STEPS_SAVED=$STEPS
   STEPS=${CG_STEPS:-20}
@@ -127,6 +154,11 @@ pair_coeff 1 1 1.0 1.0" 1.0 0.005 $cells 2.8; fi
   if [[ " $SYSTEMS " == *" eam "* ]]; then bench "FCC Cu eam Cu_u3" metal "fcc 3.615" "pair_style eam
 pair_coeff 1 1 /usr/share/lammps/potentials/Cu_u3.eam" 63.55 0.001 $cells 5.45; fi
 done
+if [ ${#cpurows[@]} -gt 0 ]; then
+  echo "| system | atoms | pdcg CPU atom-steps/s (1 thread) | lmp CPU atom-steps/s | lmp -sf opt CPU atom-steps/s | ratio pdcg/best lmp (CPU) | load |"
+  echo "|---|---|---|---|---|---|---|"
+  printf '%s\n' "${cpurows[@]}"
+fi
 machine=$(lscpu | grep -E "^Model name|^CPU\(s\)|^Thread|^L2|^L3" | sed 's/  */ /g' | paste -sd ';' -)
 echo "machine: $machine; load average at start: $load_start, at end: $(cut -d' ' -f1-3 /proc/loadavg)"
 if [ "$write_docs" = "--write-docs" ]; then
@@ -139,6 +171,12 @@ if [ "$write_docs" = "--write-docs" ]; then
     echo "$hdr"
     echo "|---|---|---|---|---|---|---|---|"
     printf '%s\n' "${rows[@]}"
+    if [ ${#cpurows[@]} -gt 0 ]; then
+      echo
+      echo "| system | atoms | pdcg CPU atom-steps/s (1 thread) | lmp CPU atom-steps/s | lmp -sf opt CPU atom-steps/s | ratio pdcg/best lmp (CPU) | load |"
+      echo "|---|---|---|---|---|---|---|"
+      printf '%s\n' "${cpurows[@]}"
+    fi
     if [ ${#cgrows[@]} -gt 0 ]; then
       echo
       echo "| system | atoms | pdcg Ir/atom-step | lmp Ir/atom-step | lmp -sf opt Ir/atom-step | ratio lmp/pdcg | ratio opt/pdcg |"
