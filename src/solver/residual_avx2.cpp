@@ -88,18 +88,33 @@ PDCG_AVX2_INL void gather2(const int* idx, const double* grad, i64 r, i64 e, con
   }
 }
 
+PDCG_AVX2_INL void add2(double* f, int m, __m128d v) {
+  double* fm = f + 2 * static_cast<i64>(m);
+  _mm_storeu_pd(fm, _mm_add_pd(v, _mm_loadu_pd(fm)));
+}
+
 // f_m += w P G^m for the terms [r, e) of one 2D stencil; c0 = (wP00, wP10, wP00, wP10),
 // c1 = (wP01, wP11, wP01, wP11).
 PDCG_AVX2_INL void scatter2(const int* idx, const double* grad, i64 r, i64 e, double* f, __m256d c0,
                             __m256d c1) {
-  for (; r + 2 <= e; r += 2) {
+  for (; r + 4 <= e; r += 4) {
+    const __m256d g = _mm256_loadu_pd(grad + 2 * r), h = _mm256_loadu_pd(grad + 2 * r + 4);
+    const __m256d v =
+        _mm256_fmadd_pd(c1, _mm256_permute_pd(g, 0xF), _mm256_mul_pd(c0, _mm256_movedup_pd(g)));
+    const __m256d w =
+        _mm256_fmadd_pd(c1, _mm256_permute_pd(h, 0xF), _mm256_mul_pd(c0, _mm256_movedup_pd(h)));
+    add2(f, idx[r], _mm256_castpd256_pd128(v));
+    add2(f, idx[r + 1], _mm256_extractf128_pd(v, 1));
+    add2(f, idx[r + 2], _mm256_castpd256_pd128(w));
+    add2(f, idx[r + 3], _mm256_extractf128_pd(w, 1));
+  }
+  if (r + 2 <= e) {
     const __m256d g = _mm256_loadu_pd(grad + 2 * r);
     const __m256d v =
         _mm256_fmadd_pd(c1, _mm256_permute_pd(g, 0xF), _mm256_mul_pd(c0, _mm256_movedup_pd(g)));
-    double* fr = f + 2 * static_cast<i64>(idx[r]);
-    _mm_storeu_pd(fr, _mm_add_pd(_mm_loadu_pd(fr), _mm256_castpd256_pd128(v)));
-    double* fs = f + 2 * static_cast<i64>(idx[r + 1]);
-    _mm_storeu_pd(fs, _mm_add_pd(_mm_loadu_pd(fs), _mm256_extractf128_pd(v, 1)));
+    add2(f, idx[r], _mm256_castpd256_pd128(v));
+    add2(f, idx[r + 1], _mm256_extractf128_pd(v, 1));
+    r += 2;
   }
   if (r < e) {
     const __m128d g = _mm_loadu_pd(grad + 2 * r);
@@ -150,8 +165,8 @@ PDCG_AVX2_INL void gather3(const int* idx, const double* grad, i64 r, i64 e, i64
 }
 
 PDCG_AVX2_INL void add3(double* fm, __m256d v) {
-  _mm_storeu_pd(fm, _mm_add_pd(_mm_loadu_pd(fm), _mm256_castpd256_pd128(v)));
-  _mm_store_sd(fm + 2, _mm_add_sd(_mm_load_sd(fm + 2), _mm256_extractf128_pd(v, 1)));
+  _mm_storeu_pd(fm, _mm_add_pd(_mm256_castpd256_pd128(v), _mm_loadu_pd(fm)));
+  _mm_store_sd(fm + 2, _mm_add_sd(_mm256_extractf128_pd(v, 1), _mm_load_sd(fm + 2)));
 }
 
 // f_m += w P G^m for the terms [r, e) of one 3D stencil; cJ = (wP0J, wP1J, wP2J, 0).
@@ -177,6 +192,16 @@ PDCG_AVX2_INL void scatter3(const int* idx, const double* grad, i64 r, i64 e, do
   }
 }
 
+// In-place 4×4 transpose of four rows.
+PDCG_AVX2_INL void transpose4(__m256d* r) {
+  const __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]);
+  const __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+  r[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  r[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  r[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  r[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
 // ------------------------------------------------------------------------------- sweep
 template <int D>
 PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, const double* u,
@@ -191,6 +216,8 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
   bool ok = true;
   alignas(32) double Fb[4 * C], Pb[4 * C];
   int pts[4];
+  __m256d row[4];  // 2D: F, then P, of the four stencils as rows (F00, F01, F10, F11)
+  const __m256d ident = _mm256_setr_pd(1.0, 0.0, 0.0, 1.0);
   for (std::size_t sb = s0; sb < s1; sb += 4) {
     const int nb = static_cast<int>(std::min<std::size_t>(4, s1 - sb));
     // Gather F of up to four stencils (SoA: component c of stencil k at Fb[4c + k]).
@@ -200,13 +227,7 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
       if constexpr (D == 2) {
         __m128d r0, r1;
         gather2(idx, grad, off[s], off[s + 1], u, r0, r1);
-        alignas(16) double t[4];
-        _mm_store_pd(t, r0);
-        _mm_store_pd(t + 2, r1);
-        Fb[0 + k] = 1.0 + t[0];
-        Fb[4 + k] = t[1];
-        Fb[8 + k] = t[2];
-        Fb[12 + k] = 1.0 + t[3];
+        row[k] = _mm256_add_pd(_mm256_set_m128d(r1, r0), ident);  // (F00, F01, F10, F11)
       } else {
         __m256d r0, r1, r2;
         gather3(idx, grad, off[s], off[s + 1], last, u, r0, r1, r2);
@@ -220,10 +241,22 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
     }
     for (int k = nb; k < 4; ++k) {  // padding lanes: the identity (admissible, P = 0)
       pts[k] = pts[0];
-      for (int a = 0; a < D; ++a)
-        for (int J = 0; J < D; ++J) Fb[4 * (D * a + J) + k] = a == J ? 1.0 : 0.0;
+      if constexpr (D == 2) {
+        row[k] = ident;
+      } else {
+        for (int a = 0; a < D; ++a)
+          for (int J = 0; J < D; ++J) Fb[4 * (D * a + J) + k] = a == J ? 1.0 : 0.0;
+      }
+    }
+    if constexpr (D == 2) {  // rows per stencil -> components per lane (4×4 transpose)
+      transpose4(row);
+      for (int c = 0; c < 4; ++c) _mm256_store_pd(Fb + 4 * c, row[c]);
     }
     const unsigned good = material.stress4(pts, Fb, Pb);
+    if constexpr (D == 2) {
+      for (int c = 0; c < 4; ++c) row[c] = _mm256_load_pd(Pb + 4 * c);
+      transpose4(row);  // row[k] = (P00, P01, P10, P11) of stencil k
+    }
     for (int k = 0; k < nb; ++k) {
       if (!((good >> k) & 1u)) {
         ok = false;
@@ -232,10 +265,9 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
       const std::size_t s = sb + static_cast<std::size_t>(k);
       const double w = weight[s];
       if constexpr (D == 2) {
-        const double p00 = w * Pb[0 + k], p01 = w * Pb[4 + k], p10 = w * Pb[8 + k],
-                     p11 = w * Pb[12 + k];
-        scatter2(idx, grad, off[s], off[s + 1], f, _mm256_setr_pd(p00, p10, p00, p10),
-                 _mm256_setr_pd(p01, p11, p01, p11));
+        const __m256d q = _mm256_mul_pd(row[k], _mm256_set1_pd(w));
+        scatter2(idx, grad, off[s], off[s + 1], f, _mm256_permute4x64_pd(q, 0x88),
+                 _mm256_permute4x64_pd(q, 0xDD));
       } else {
         auto col = [&](int J) {
           return std::array<double, 4>{w * Pb[4 * J + k], w * Pb[4 * (3 + J) + k],
