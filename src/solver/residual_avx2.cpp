@@ -133,35 +133,34 @@ PDCG_AVX2_INL __m256d load_g3(const double* grad, i64 r, bool safe) {
   return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(g)), _mm_load_sd(g + 2), 1);
 }
 
+// Row a of F += u_m,a (G₀, G₁, G₂, ·) for one member.
+PDCG_AVX2_INL void acc3(__m256d* a, __m256d g, const double* um) {
+  a[0] = _mm256_fmadd_pd(_mm256_broadcast_sd(um), g, a[0]);
+  a[1] = _mm256_fmadd_pd(_mm256_broadcast_sd(um + 1), g, a[1]);
+  a[2] = _mm256_fmadd_pd(_mm256_broadcast_sd(um + 2), g, a[2]);
+}
+
 // F_S − I of one 3D stencil, terms [r, e): rows (lane 3 unused). Terms r < last may read 4
-// doubles of G.
+// doubles of G. Two accumulator sets (even / odd members), four members per iteration.
 PDCG_AVX2_INL void gather3(const int* idx, const double* grad, i64 r, i64 e, i64 last,
-                           const double* u, __m256d& row0, __m256d& row1, __m256d& row2) {
-  __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
-  __m256d b0 = _mm256_setzero_pd(), b1 = _mm256_setzero_pd(), b2 = _mm256_setzero_pd();
+                           const double* u, __m256d* row) {
+  const __m256d z = _mm256_setzero_pd();
+  __m256d a[3] = {z, z, z}, b[3] = {z, z, z};
+  auto up = [u](int m) { return u + 3 * static_cast<i64>(m); };
   const i64 ef = std::min(e, last);
-  for (; r + 2 <= ef; r += 2) {
-    const __m256d g = _mm256_loadu_pd(grad + 3 * r);
-    const double* um = u + 3 * static_cast<i64>(idx[r]);
-    a0 = _mm256_fmadd_pd(_mm256_broadcast_sd(um), g, a0);
-    a1 = _mm256_fmadd_pd(_mm256_broadcast_sd(um + 1), g, a1);
-    a2 = _mm256_fmadd_pd(_mm256_broadcast_sd(um + 2), g, a2);
-    const __m256d h = _mm256_loadu_pd(grad + 3 * r + 3);
-    const double* vm = u + 3 * static_cast<i64>(idx[r + 1]);
-    b0 = _mm256_fmadd_pd(_mm256_broadcast_sd(vm), h, b0);
-    b1 = _mm256_fmadd_pd(_mm256_broadcast_sd(vm + 1), h, b1);
-    b2 = _mm256_fmadd_pd(_mm256_broadcast_sd(vm + 2), h, b2);
+  for (; r + 4 <= ef; r += 4) {
+    acc3(a, _mm256_loadu_pd(grad + 3 * r), up(idx[r]));
+    acc3(b, _mm256_loadu_pd(grad + 3 * r + 3), up(idx[r + 1]));
+    acc3(a, _mm256_loadu_pd(grad + 3 * r + 6), up(idx[r + 2]));
+    acc3(b, _mm256_loadu_pd(grad + 3 * r + 9), up(idx[r + 3]));
   }
-  for (; r < e; ++r) {
-    const __m256d g = load_g3(grad, r, r >= last);
-    const double* um = u + 3 * static_cast<i64>(idx[r]);
-    a0 = _mm256_fmadd_pd(_mm256_broadcast_sd(um), g, a0);
-    a1 = _mm256_fmadd_pd(_mm256_broadcast_sd(um + 1), g, a1);
-    a2 = _mm256_fmadd_pd(_mm256_broadcast_sd(um + 2), g, a2);
+  if (r + 2 <= ef) {
+    acc3(a, _mm256_loadu_pd(grad + 3 * r), up(idx[r]));
+    acc3(b, _mm256_loadu_pd(grad + 3 * r + 3), up(idx[r + 1]));
+    r += 2;
   }
-  row0 = _mm256_add_pd(a0, b0);
-  row1 = _mm256_add_pd(a1, b1);
-  row2 = _mm256_add_pd(a2, b2);
+  for (; r < e; ++r) acc3(a, load_g3(grad, r, r >= last), up(idx[r]));
+  for (int c = 0; c < 3; ++c) row[c] = _mm256_add_pd(a[c], b[c]);
 }
 
 PDCG_AVX2_INL void add3(double* fm, __m256d v) {
@@ -169,27 +168,27 @@ PDCG_AVX2_INL void add3(double* fm, __m256d v) {
   _mm_store_sd(fm + 2, _mm_add_sd(_mm256_extractf128_pd(v, 1), _mm_load_sd(fm + 2)));
 }
 
-// f_m += w P G^m for the terms [r, e) of one 3D stencil; cJ = (wP0J, wP1J, wP2J, 0).
-PDCG_AVX2_INL void scatter3(const int* idx, const double* grad, i64 r, i64 e, double* f, __m256d c0,
-                            __m256d c1, __m256d c2) {
-  for (; r + 2 <= e; r += 2) {
+// (w P G^m, 0) = c0 G₀ + c1 G₁ + c2 G₂ for one member.
+PDCG_AVX2_INL __m256d term3(const __m256d* c, const double* g) {
+  __m256d v = _mm256_mul_pd(c[0], _mm256_broadcast_sd(g));
+  v = _mm256_fmadd_pd(c[1], _mm256_broadcast_sd(g + 1), v);
+  return _mm256_fmadd_pd(c[2], _mm256_broadcast_sd(g + 2), v);
+}
+
+// f_m += w P G^m for the terms [r, e) of one 3D stencil; c[J] = (wP0J, wP1J, wP2J, 0).
+PDCG_AVX2_INL void scatter3(const int* idx, const double* grad, i64 r, i64 e, double* f,
+                            const __m256d* c) {
+  auto fp = [f](int m) { return f + 3 * static_cast<i64>(m); };
+  for (; r + 4 <= e; r += 4) {
     const double* g = grad + 3 * r;
-    __m256d v = _mm256_mul_pd(c0, _mm256_broadcast_sd(g));
-    __m256d w = _mm256_mul_pd(c0, _mm256_broadcast_sd(g + 3));
-    v = _mm256_fmadd_pd(c1, _mm256_broadcast_sd(g + 1), v);
-    w = _mm256_fmadd_pd(c1, _mm256_broadcast_sd(g + 4), w);
-    v = _mm256_fmadd_pd(c2, _mm256_broadcast_sd(g + 2), v);
-    w = _mm256_fmadd_pd(c2, _mm256_broadcast_sd(g + 5), w);
-    add3(f + 3 * static_cast<i64>(idx[r]), v);
-    add3(f + 3 * static_cast<i64>(idx[r + 1]), w);
+    const __m256d v0 = term3(c, g), v1 = term3(c, g + 3), v2 = term3(c, g + 6),
+                  v3 = term3(c, g + 9);
+    add3(fp(idx[r]), v0);
+    add3(fp(idx[r + 1]), v1);
+    add3(fp(idx[r + 2]), v2);
+    add3(fp(idx[r + 3]), v3);
   }
-  if (r < e) {
-    const double* g = grad + 3 * r;
-    __m256d v = _mm256_mul_pd(c0, _mm256_broadcast_sd(g));
-    v = _mm256_fmadd_pd(c1, _mm256_broadcast_sd(g + 1), v);
-    v = _mm256_fmadd_pd(c2, _mm256_broadcast_sd(g + 2), v);
-    add3(f + 3 * static_cast<i64>(idx[r]), v);
-  }
+  for (; r < e; ++r) add3(fp(idx[r]), term3(c, grad + 3 * r));
 }
 
 // In-place 4×4 transpose of four rows.
@@ -218,6 +217,9 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
   int pts[4];
   __m256d row[4];  // 2D: F, then P, of the four stencils as rows (F00, F01, F10, F11)
   const __m256d ident = _mm256_setr_pd(1.0, 0.0, 0.0, 1.0);
+  __m256d row3[3][4];  // 3D: row a of F of stencil k, then column J of P of stencil k
+  const __m256d e3[3] = {_mm256_setr_pd(1.0, 0.0, 0.0, 0.0), _mm256_setr_pd(0.0, 1.0, 0.0, 0.0),
+                         _mm256_setr_pd(0.0, 0.0, 1.0, 0.0)};
   for (std::size_t sb = s0; sb < s1; sb += 4) {
     const int nb = static_cast<int>(std::min<std::size_t>(4, s1 - sb));
     // Gather F of up to four stencils (SoA: component c of stencil k at Fb[4c + k]).
@@ -229,14 +231,9 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
         gather2(idx, grad, off[s], off[s + 1], u, r0, r1);
         row[k] = _mm256_add_pd(_mm256_set_m128d(r1, r0), ident);  // (F00, F01, F10, F11)
       } else {
-        __m256d r0, r1, r2;
-        gather3(idx, grad, off[s], off[s + 1], last, u, r0, r1, r2);
-        alignas(32) double t[12];
-        _mm256_store_pd(t, r0);
-        _mm256_store_pd(t + 4, r1);
-        _mm256_store_pd(t + 8, r2);
-        for (int a = 0; a < 3; ++a)
-          for (int J = 0; J < 3; ++J) Fb[4 * (3 * a + J) + k] = (a == J ? 1.0 : 0.0) + t[4 * a + J];
+        __m256d r3[3];
+        gather3(idx, grad, off[s], off[s + 1], last, u, r3);
+        for (int a = 0; a < 3; ++a) row3[a][k] = _mm256_add_pd(r3[a], e3[a]);
       }
     }
     for (int k = nb; k < 4; ++k) {  // padding lanes: the identity (admissible, P = 0)
@@ -244,18 +241,30 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
       if constexpr (D == 2) {
         row[k] = ident;
       } else {
-        for (int a = 0; a < D; ++a)
-          for (int J = 0; J < D; ++J) Fb[4 * (D * a + J) + k] = a == J ? 1.0 : 0.0;
+        for (int a = 0; a < 3; ++a) row3[a][k] = e3[a];
       }
     }
     if constexpr (D == 2) {  // rows per stencil -> components per lane (4×4 transpose)
       transpose4(row);
       for (int c = 0; c < 4; ++c) _mm256_store_pd(Fb + 4 * c, row[c]);
+    } else {  // row a of the four stencils -> components (a, J) per lane
+      for (int a = 0; a < 3; ++a) {
+        transpose4(row3[a]);
+        for (int J = 0; J < 3; ++J) _mm256_store_pd(Fb + 4 * (3 * a + J), row3[a][J]);
+      }
     }
     const unsigned good = material.stress4(pts, Fb, Pb);
     if constexpr (D == 2) {
       for (int c = 0; c < 4; ++c) row[c] = _mm256_load_pd(Pb + 4 * c);
       transpose4(row);  // row[k] = (P00, P01, P10, P11) of stencil k
+    } else {  // components (a, J) per lane -> column J of each stencil: (P0J, P1J, P2J, 0)
+      for (int J = 0; J < 3; ++J) {
+        row3[J][0] = _mm256_load_pd(Pb + 4 * J);
+        row3[J][1] = _mm256_load_pd(Pb + 4 * (3 + J));
+        row3[J][2] = _mm256_load_pd(Pb + 4 * (6 + J));
+        row3[J][3] = _mm256_setzero_pd();
+        transpose4(row3[J]);
+      }
     }
     for (int k = 0; k < nb; ++k) {
       if (!((good >> k) & 1u)) {
@@ -269,13 +278,10 @@ PDCG_AVX2_INL bool sweep(const Stencils& S, std::size_t s0, std::size_t s1, cons
         scatter2(idx, grad, off[s], off[s + 1], f, _mm256_permute4x64_pd(q, 0x88),
                  _mm256_permute4x64_pd(q, 0xDD));
       } else {
-        auto col = [&](int J) {
-          return std::array<double, 4>{w * Pb[4 * J + k], w * Pb[4 * (3 + J) + k],
-                                       w * Pb[4 * (6 + J) + k], 0.0};
-        };
-        const auto q0 = col(0), q1 = col(1), q2 = col(2);
-        scatter3(idx, grad, off[s], off[s + 1], f, _mm256_loadu_pd(q0.data()),
-                 _mm256_loadu_pd(q1.data()), _mm256_loadu_pd(q2.data()));
+        const __m256d wv = _mm256_set1_pd(w);
+        const __m256d c3[3] = {_mm256_mul_pd(row3[0][k], wv), _mm256_mul_pd(row3[1][k], wv),
+                               _mm256_mul_pd(row3[2][k], wv)};
+        scatter3(idx, grad, off[s], off[s + 1], f, c3);
       }
     }
   }
