@@ -4,7 +4,44 @@
 #include <cmath>
 #include <limits>
 
+#include "residual_avx2.hpp"
+
 namespace pdcg::solver {
+
+unsigned Material::stress4(const int* points, const double* F, double* P) const {
+  const int d = dimension();
+  unsigned good = 0;
+  for (int k = 0; k < 4; ++k) {
+    Mat3 Fk = Mat3::Identity(), Pk;
+    for (int a = 0; a < d; ++a)
+      for (int J = 0; J < d; ++J) Fk(a, J) = F[4 * (d * a + J) + k];
+    if (!evaluate_at(points[k], Fk, nullptr, &Pk, nullptr)) continue;
+    good |= 1u << k;
+    for (int a = 0; a < d; ++a)
+      for (int J = 0; J < d; ++J) P[4 * (d * a + J) + k] = Pk(a, J);
+  }
+  return good;
+}
+
+unsigned NeoHookean3D::stress4(const int* points, const double* F, double* P) const {
+#ifdef PDCG_SOLVER_AVX2
+  if (detail::cpu_has_avx2_fma()) {
+    const unsigned m = detail::neo_hookean_stress4_avx2(3, p_.shear_modulus, p_.bulk_modulus, F, P);
+    if (m != detail::kNotHandled) return m;
+  }
+#endif
+  return Material::stress4(points, F, P);
+}
+
+unsigned NeoHookeanPlaneStrain::stress4(const int* points, const double* F, double* P) const {
+#ifdef PDCG_SOLVER_AVX2
+  if (detail::cpu_has_avx2_fma()) {
+    const unsigned m = detail::neo_hookean_stress4_avx2(2, p_.shear_modulus, p_.bulk_modulus, F, P);
+    if (m != detail::kNotHandled) return m;
+  }
+#endif
+  return Material::stress4(points, F, P);
+}
 
 bool neo_hookean_3d(const NeoHookeanParameters& p, const Mat3& F, double* psi, Mat3* P,
                     Tangent* A) {

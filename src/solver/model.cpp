@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "pdcg/core/error.hpp"
+#include "residual_avx2.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -319,8 +320,16 @@ bool Model::residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const 
     if (t > 0) std::fill(ft, ft + ndof, 0.0);
     // Contiguous stencil range per thread (a static schedule).
     const std::size_t s0 = ns * t / nt, s1 = ns * (t + 1) / nt;
-    if (!(D == 2 ? stencil_sweep_2d(S, s0, s1, ud, ft, *material_)
-                 : stencil_sweep_3d(S, s0, s1, ud, ft, *material_)))
+#ifdef PDCG_SOLVER_AVX2
+    // AVX2 + FMA sweep (residual_avx2.cpp) when the CPU has it, else the portable one.
+    if (detail::cpu_has_avx2_fma()) {
+      if (!(D == 2 ? detail::stencil_sweep_avx2_2d(S, s0, s1, ud, ft, *material_)
+                   : detail::stencil_sweep_avx2_3d(S, s0, s1, ud, ft, *material_)))
+        ok = false;
+    } else
+#endif
+        if (!(D == 2 ? stencil_sweep_2d(S, s0, s1, ud, ft, *material_)
+                     : stencil_sweep_3d(S, s0, s1, ud, ft, *material_)))
       ok = false;
 #pragma omp barrier
     if (nt > 1) {

@@ -5,6 +5,8 @@
 //   bench_ba_roofline triad <threads> [MiB per array = 256]   STREAM-like triad a = b + s·c
 //   bench_ba_roofline fma <threads>                            FMA peak (AVX2+FMA if present)
 //   bench_ba_roofline ba <dim> <n per edge> [reps = 5] [tangent = 1]
+//   bench_ba_roofline roof <dim> <n per edge> [rounds = 5] [reps = 5]  triad and residual
+//                                                  alternating in one process (one thread)
 //
 // One line of key=value pairs per run. Times are the minimum over `reps` repetitions (the
 // machine is shared: the minimum is the least disturbed run).
@@ -254,6 +256,69 @@ int ba(int dim, int n, int reps, bool tangent) {
   return 0;
 }
 
+// ---------------------------------------------------------------- same-process roofline
+// `roof`: the residual and the triad probe alternate in one process, `rounds` times (one
+// thread): each round runs the triad (best of 5 passes over 3 × 256 MiB) and then the residual
+// (minimum of `reps` calls). The best triad and the best residual over the rounds give the
+// fraction of the bound min over like conditions (the machine is shared: the probe and the
+// kernel see the same load within a round). Prints one line per round and a summary line.
+int roof(int dim, int n, int rounds, int reps) {
+  using namespace pdcg::solver;
+  set_threads(1);
+  GridSpec g;
+  g.dimension = dim;
+  g.spacing = 1.0 / n;
+  const auto D = Discretization::grid(g);
+  const auto mat =
+      make_neo_hookean({1.0, 10.0}, dim == 3 ? Kinematics::three_d : Kinematics::plane_strain);
+  const Stencils& S = D.bond_stencils();
+  const std::size_t N = D.size(), ns = S.size(), terms = S.index.size();
+  Eigen::VectorXd u(dim * N), f(dim * N);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (std::size_t i = 0; i < N; ++i)
+    for (int a = 0; a < dim; ++a)
+      u[dim * i + a] = 0.05 * D.positions()[i](a) * (a == 0 ? 1 : -0.3) + 0.01 * g.spacing * U(rng);
+  const Model M(D, *mat);
+  if (!M.internal_force(u, f)) {
+    std::fprintf(stderr, "inadmissible deformation\n");
+    return 1;
+  }
+  const double d = dim;
+  const double bytes = static_cast<double>(terms) * (4 + 8 * d) + 16.0 * static_cast<double>(ns) +
+                       16.0 * d * static_cast<double>(N);
+  const std::size_t m = 256ull * 1024 * 1024 / sizeof(double);
+  std::vector<double> a(m, 0.0), b(m, 1.0), c(m, 2.0);
+  double best_bw = 0, best_t = 1e300;
+  for (int round = 0; round < rounds; ++round) {
+    double tt = 1e300;
+    for (int rep = 0; rep < 5; ++rep) {
+      const double t0 = now();
+      for (std::size_t i = 0; i < m; ++i) a[i] = b[i] + 3.0 * c[i];
+      tt = std::min(tt, now() - t0);
+    }
+    const double bw = 24.0 * static_cast<double>(m) / tt / 1e9;
+    double tr = 1e300;
+    for (int r = 0; r < reps; ++r) {
+      const double t0 = now();
+      M.internal_force(u, f);
+      tr = std::min(tr, now() - t0);
+    }
+    best_bw = std::max(best_bw, bw);
+    best_t = std::min(best_t, tr);
+    std::printf("round=%d triad_gbs=%.2f residual_s=%.6g residual_terms_per_s=%.4g check=%.1f\n",
+                round, bw, tr, terms / tr, a[m / 2]);
+  }
+  const double bound = best_bw * 1e9 / (bytes / terms);  // terms/s
+  std::printf(
+      "roof dim=%d n=%d points=%zu terms=%zu bytes_per_term=%.3f best_triad_gbs=%.2f "
+      "best_residual_s=%.6g best_terms_per_s=%.4g bound_terms_per_s=%.4g fraction=%.3f "
+      "one_over=%.2f\n",
+      dim, n, N, terms, bytes / terms, best_bw, best_t, terms / best_t, bound,
+      terms / best_t / bound, bound / (terms / best_t));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -264,8 +329,12 @@ int main(int argc, char** argv) {
   if (mode == "ba" && argc > 3)
     return ba(std::atoi(argv[2]), std::atoi(argv[3]), argc > 4 ? std::atoi(argv[4]) : 5,
               argc > 5 ? std::atoi(argv[5]) != 0 : true);
+  if (mode == "roof" && argc > 3)
+    return roof(std::atoi(argv[2]), std::atoi(argv[3]), argc > 4 ? std::atoi(argv[4]) : 5,
+                argc > 5 ? std::atoi(argv[5]) : 5);
   std::fprintf(stderr,
-               "usage: %s triad <threads> [MiB] | fma <threads> | ba <dim> <n> [reps] [tangent]\n",
+               "usage: %s triad <threads> [MiB] | fma <threads> | ba <dim> <n> [reps] [tangent] | "
+               "roof <dim> <n> [rounds] [reps]\n",
                argv[0]);
   return 2;
 }

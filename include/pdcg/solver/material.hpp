@@ -45,6 +45,13 @@ class Material {
     (void)point;
     return evaluate(F, psi, P, A);
   }
+  /// Stress only, for four deformation gradients at once (the BA residual batches its
+  /// constitutive updates over four stencils; the Neo-Hookean materials vectorise them).
+  /// Structure of arrays over the d×d block (d = dimension()): F[4 (d a + J) + k] is F_aJ of
+  /// gradient k, P likewise; points[k] as in evaluate_at. Returns a bit mask, bit k set when
+  /// gradient k is admissible (P of the others is unspecified). The default calls
+  /// evaluate_at once per gradient.
+  virtual unsigned stress4(const int* points, const double* F, double* P) const;
   /// Full 3×3 deformation gradient the material works with (plane stress:
   /// F₃₃ from P₃₃ = 0; plane strain: F₃₃ = 1). For output (Cauchy stress).
   virtual Mat3 full_deformation_gradient(const Mat3& F) const = 0;
@@ -76,6 +83,7 @@ class NeoHookean3D final : public Material {
   bool evaluate(const Mat3& F, double* psi, Mat3* P, Tangent* A) const override {
     return neo_hookean_3d(p_, F, psi, P, A);
   }
+  unsigned stress4(const int* points, const double* F, double* P) const override;
   Mat3 full_deformation_gradient(const Mat3& F) const override { return F; }
   std::string name() const override { return "neo-hookean (3d)"; }
   std::unique_ptr<Material> clone() const override { return std::make_unique<NeoHookean3D>(*this); }
@@ -92,6 +100,7 @@ class NeoHookeanPlaneStrain final : public Material {
   explicit NeoHookeanPlaneStrain(NeoHookeanParameters p) : p_(p) {}
   int dimension() const override { return 2; }
   bool evaluate(const Mat3& F, double* psi, Mat3* P, Tangent* A) const override;
+  unsigned stress4(const int* points, const double* F, double* P) const override;
   Mat3 full_deformation_gradient(const Mat3& F) const override;
   std::string name() const override { return "neo-hookean (plane strain)"; }
   std::unique_ptr<Material> clone() const override {

@@ -197,3 +197,54 @@ TEST(NeoHookean, NearlyIncompressibleUniaxialMatchesTreloar) {
     EXPECT_NEAR(m.thickness_stretch(F), 1.0 / std::sqrt(lam), 1e-4);
   }
 }
+
+// The batched stress of the residual (Material::stress4: AVX2 J^(−2/3) by Newton on CPUs with
+// AVX2 + FMA, the scalar evaluate otherwise) against evaluate, lane by lane: large general
+// deformations (J from ≈ 0.03 to ≈ 60), a scaled one (J = 10⁶, 10⁻⁶), inadmissible lanes
+// (J ≤ 0, NaN) that must be flagged, and J = 10⁻³⁰⁰ (outside the vector path's range: the
+// scalar fallback; P overflows there in both).
+TEST(NeoHookean, BatchedStressMatchesEvaluate) {
+  std::mt19937 rng(11);
+  for (auto k : {Kinematics::three_d, Kinematics::plane_strain, Kinematics::plane_stress}) {
+    auto m = make_neo_hookean(kParams, k);
+    const int d = m->dimension();
+    for (int batch = 0; batch < 64; ++batch) {
+      Mat3 F[4];
+      for (auto& Fk : F) Fk = random_F(rng, d);
+      if (batch == 1) F[1] *= 100.0;  // J = 10⁶ (3D), 10⁴ (2D)
+      if (batch == 2) F[2] *= 0.01;
+      if (batch == 3) F[0](0, 0) = std::nan("");
+      if (batch == 4) F[3].row(0) *= -1.0;  // J < 0
+      if (batch == 5 && k != Kinematics::plane_stress) F[1] *= 1e-100;
+      double Fs[36], Ps[36];
+      const int pts[4] = {0, 1, 2, 3};
+      for (int q = 0; q < 4; ++q)
+        for (int a = 0; a < d; ++a)
+          for (int J = 0; J < d; ++J) Fs[4 * (d * a + J) + q] = F[q](a, J);
+      const unsigned good = m->stress4(pts, Fs, Ps);
+      for (int q = 0; q < 4; ++q) {
+        Mat3 P;
+        const bool ok = m->evaluate(F[q], nullptr, &P, nullptr);
+        ASSERT_EQ(ok, ((good >> q) & 1u) != 0) << "batch " << batch << " lane " << q;
+        if (!ok) continue;
+        if (!P.topLeftCorner(d, d).allFinite()) {  // J = 10⁻³⁰⁰: J⁻² overflows in both paths
+          EXPECT_FALSE(std::isfinite(Ps[q]));
+          continue;
+        }
+        // Both paths carry round-off of the two stress terms, each of size ≈ (μ + K)·(J^(−2/3)
+        // |F| + (J² + J⁻²)|F⁻ᵀ|): 1e-14 of that scale is ≈ 50 ulp (J^(−2/3) by Newton is
+        // within 4e-16 of pow; the sums are ordered differently).
+        const Mat3 H = F[q].topLeftCorner(d, d).inverse().transpose();
+        const double J = F[q].topLeftCorner(d, d).determinant();
+        const double scale = (kParams.shear_modulus + kParams.bulk_modulus) *
+                                 (std::pow(std::abs(J), -2.0 / 3.0) * F[q].squaredNorm() +
+                                  (J * J + 1.0 / (J * J)) * H.norm()) +
+                             1e-300;
+        for (int a = 0; a < d; ++a)
+          for (int J2 = 0; J2 < d; ++J2)
+            EXPECT_LE(std::abs(Ps[4 * (d * a + J2) + q] - P(a, J2)), 1e-14 * scale)
+                << "batch " << batch << " lane " << q << " (" << a << "," << J2 << ")";
+      }
+    }
+  }
+}
