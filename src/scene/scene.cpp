@@ -468,7 +468,7 @@ Scene load_scene(const std::filesystem::path& file) {
   if (const auto v = root["solver"]) {
     c.keys(v, "solver",
            {"type", "tolerance", "max_iterations", "linear", "formulation", "correspondence",
-            "max_cutbacks", "check_stability"});
+            "max_cutbacks", "check_stability", "matrix_free"});
     if (v["type"]) c.choice(v["type"], "solver.type", {"newton"});
     if (v["tolerance"]) s.newton.tolerance = c.number(v["tolerance"], "solver.tolerance");
     if (v["max_iterations"])
@@ -488,6 +488,23 @@ Scene load_scene(const std::filesystem::path& file) {
       s.linear_name =
           c.choice(v["linear"], "solver.linear", {"cholmod", "umfpack", "lu", "bicgstab", "gmres"});
       s.newton.linear = solver::parse_linear_solver(s.linear_name);
+    }
+    if (v["matrix_free"]) {
+      try {
+        s.newton.matrix_free = v["matrix_free"].as<bool>();
+      } catch (const YAML::Exception&) {
+        throw c.err(v["matrix_free"], "solver.matrix_free", "not a boolean")
+            .value(v["matrix_free"].IsScalar() ? v["matrix_free"].Scalar() : "")
+            .expected("true or false");
+      }
+      // products from the per-stencil tangents: only the Krylov solver takes them
+      if (s.newton.matrix_free && s.newton.linear != solver::LinearSolver::gmres)
+        throw c
+            .err(v["matrix_free"], "solver.matrix_free",
+                 "matrix-free products need the GMRES linear solver")
+            .value("true")
+            .expected("solver.linear: gmres (the direct solvers factorise an assembled K)")
+            .fix("add linear: gmres to solver, or remove matrix_free");
     }
     if (v["formulation"])
       s.model.boundary =
@@ -846,7 +863,8 @@ std::string resolved_yaml(const Scene& s) {
     << "correspondence" << YAML::Value
     << (s.model.correspondence == solver::Correspondence::classical ? "classical"
                                                                     : "bond-associated")
-    << YAML::Key << "check_stability" << YAML::Value << s.newton.check_stability << YAML::EndMap;
+    << YAML::Key << "check_stability" << YAML::Value << s.newton.check_stability << YAML::Key
+    << "matrix_free" << YAML::Value << s.newton.matrix_free << YAML::EndMap;
   y << YAML::Key << "effects" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (const auto& e : s.effects) y << e;
   y << YAML::EndSeq;

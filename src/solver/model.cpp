@@ -125,6 +125,41 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
                                                                    : &body.point_stencils();
   const Stencils& S = *energy_;
   const std::size_t N = body.size();
+  // Smeared normals b_k = Σ_{S∋k} w_S G_S^k (one pass over the stencils in order: the same
+  // summation order per point as a gather over the reverse index) and the weak-form
+  // defect e_k = b_k − s_k.
+  smeared_.assign(N, Vec3::Zero());
+  defect_.assign(N, Vec3::Zero());
+  for (std::size_t s = 0; s < S.size(); ++s)
+    for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+      const double* g = S.grad.data() + r * d_;
+      Vec3& b = smeared_[S.index[r]];
+      for (int a = 0; a < d_; ++a) b(a) += S.weight[s] * g[a];
+    }
+  std::vector<char> weak(N, 0);
+  const double area = std::pow(body.spacing(), d_ - 1);
+  if (opt_.boundary == BoundaryForm::weak)
+    for (std::size_t k = 0; k < N; ++k) {
+      const Vec3 e = smeared_[k] - body.surface()[k];
+      // |e| below round-off of the sums (interior points): no correction row.
+      if (e.norm() > 1e-10 * area) {
+        defect_[k] = e;
+        weak[k] = 1;
+      }
+    }
+  weak_id_.assign(N, -1);
+  for (std::size_t k = 0; k < N; ++k)
+    if (weak[k]) {
+      weak_id_[k] = static_cast<int>(weak_points_.size());
+      weak_points_.push_back(static_cast<int>(k));
+    }
+  weak_points_.shrink_to_fit();
+}
+
+void Model::build_index() const {
+  if (indexed_) return;
+  const Stencils& S = *energy_;
+  const std::size_t N = body_->size();
   // Reverse index point -> (stencil, position).
   member_of_.offsets.assign(N + 1, 0);
   for (int m : S.index) ++member_of_.offsets[m + 1];
@@ -140,38 +175,8 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
         member_pos_[slot] = static_cast<int>(q - S.offsets[s]);
       }
   }
-  // Smeared normals b_k and the weak-form defect e_k = b_k − s_k.
-  smeared_.assign(N, Vec3::Zero());
-  defect_.assign(N, Vec3::Zero());
-  std::vector<char> weak(N, 0);
-  const double area = std::pow(body.spacing(), d_ - 1);
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < N; ++k) {
-    Vec3 b = Vec3::Zero();
-    for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
-      const int s = member_of_.index[q];
-      const double* g = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d_;
-      for (int a = 0; a < d_; ++a) b(a) += S.weight[s] * g[a];
-    }
-    smeared_[k] = b;
-    if (opt_.boundary == BoundaryForm::weak) {
-      const Vec3 e = b - body.surface()[k];
-      // |e| below round-off of the sums (interior points): no correction row.
-      if (e.norm() > 1e-10 * area) {
-        defect_[k] = e;
-        weak[k] = 1;
-      }
-    }
-  }
-  weak_id_.assign(N, -1);
-  for (std::size_t k = 0; k < N; ++k)
-    if (weak[k]) {
-      weak_id_[k] = static_cast<int>(weak_points_.size());
-      weak_points_.push_back(static_cast<int>(k));
-    }
-  weak_points_.shrink_to_fit();
   // Matrix pattern: pairs of points sharing an energy stencil, plus weak rows.
-  const Stencils& Pst = body.point_stencils();
+  const Stencils& Pst = body_->point_stencils();
   std::vector<std::vector<int>> adj(N);
 #pragma omp parallel
   {
@@ -207,6 +212,7 @@ Model::Model(const Discretization& body, const Material& material, ModelOptions 
   // in 3D).
   pattern_nnz_ = static_cast<std::int64_t>(d_) * d_ * adjacency_.offsets[N];
   slot_.assign(static_cast<std::size_t>(max_threads()), std::vector<int>(N, -1));
+  indexed_ = true;
 }
 
 void Model::fill_pattern(SparseRow& K) const {
@@ -463,6 +469,7 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
 
 bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
                                        SparseRow& K) const {
+  build_index();
   if (!evaluate_stencils(u, true)) return false;
   if (K.rows() != static_cast<Eigen::Index>(dofs()) || K.nonZeros() != pattern_nnz_)
     fill_pattern(K);
@@ -483,6 +490,7 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
                                  std::vector<double>& sums) const {
   // The A of every stencil these rows meet, once (into the scratch of the tangent
   // assembly), then the rows gathered as in assemble_rows.
+  build_index();
   const Stencils& S = *energy_;
   const Stencils& Pst = body_->point_stencils();
   const int d = d_, d2 = d * d, d4 = d2 * d2;

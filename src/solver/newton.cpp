@@ -54,6 +54,7 @@ struct StaticSolver::Solvers {
   bool lattice_ready = false;
   Gmres gmres;
   Eigen::VectorXd xfull;  // free vector scattered to all dofs (prescribed = 0)
+  Eigen::VectorXd yfull;  // matrix-free: the full product K xfull
   // Reduced tangent K_ff in the column-major storage the factorisations read, filled
   // in place from the full row-major K through red_map_ (no per-iteration copy).
   SparseCol Kff;
@@ -92,6 +93,12 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
     : model_(&model), dsets_(std::move(displacement)), tsets_(std::move(traction)), opt_(options) {
   const int d = model.dimension();
   const std::size_t n = model.dofs();
+  if (opt_.matrix_free && opt_.linear != LinearSolver::gmres)
+    throw InputError("matrix-free products need the GMRES linear solver")
+        .key("solver.matrix_free")
+        .value("true")
+        .expected("linear: gmres with matrix_free: true")
+        .fix("set solver.linear: gmres, or drop matrix_free");
   if (opt_.linear == LinearSolver::cholmod && !model.symmetric()) {
     log::info("weak-form tangent is unsymmetric: using UMFPACK instead of CHOLMOD");
     opt_.linear = LinearSolver::umfpack;
@@ -144,7 +151,9 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
   u_.setZero(n);
   f_.setZero(n);
   Eigen::VectorXd f;
-  if (!model.internal_force_and_tangent(u_, f, K_))
+  // (matrix-free: no K, and its pattern is never built)
+  if (!(opt_.matrix_free ? model.internal_force(u_, f)
+                         : model.internal_force_and_tangent(u_, f, K_)))
     throw NumericalError("the reference configuration is inadmissible for the material");
   solvers_ = std::make_shared<Solvers>();
   solvers_->gmres = Gmres(opt_.gmres_restart);
@@ -218,11 +227,16 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
   const double dx_scale = model_->body().spacing();
   rep.residual_history.clear();
   double last_inc = INFINITY;
+  const bool mf = opt_.matrix_free;
+  auto& S = *solvers_;
+  // matrix-free: f and the per-stencil tangents (the operator); else f and the assembled K
+  const auto evaluate = [&] {
+    return mf ? model_->internal_force_and_operator(u, f)
+              : model_->internal_force_and_tangent(u, f, K_);
+  };
   for (int it = 0; it < opt_.max_iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (!model_->internal_force_and_tangent(u, f, K_) &&
-        !(inadmissible_ && inadmissible_(u) && model_->internal_force_and_tangent(u, f, K_)))
-      return false;
+    if (!evaluate() && !(inadmissible_ && inadmissible_(u) && evaluate())) return false;
     const auto t1 = std::chrono::steady_clock::now();
     for (int i = 0; i < nf; ++i) Rf[i] = f[free_dofs_[i]] - fext[free_dofs_[i]];
     const double scale = std::max({f.norm(), fext.norm(), 1e-300});
@@ -236,7 +250,14 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     }
     // rhs = −R_f − K_fc Δu_c (Δu_c ≠ 0 only in the first iteration of a step).
     rhs = -Rf;
-    if (du_c.squaredNorm() > 0) {
+    if (du_c.squaredNorm() > 0 && mf) {
+      const auto tp = std::chrono::steady_clock::now();
+      model_->apply_tangent(du_c, S.yfull);
+      rep.product_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
+      ++rep.operator_products;
+      for (int i = 0; i < nf; ++i) rhs[i] -= S.yfull[free_dofs_[i]];
+    } else if (du_c.squaredNorm() > 0) {
       for (int r = 0; r < K_.outerSize(); ++r) {
         const int fr = free_index_[r];
         if (fr < 0) continue;
@@ -252,11 +273,14 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       rep.residual = rnorm;
       u_ = u;
       f_ = f;
-      if (opt_.check_stability) rep.negative_eigenvalues = tangent_inertia();  // K_ is at u
+      if (opt_.check_stability) {
+        Eigen::VectorXd ftmp;  // matrix-free: K assembled for the inertia only
+        if (mf && !model_->internal_force_and_tangent(u, ftmp, K_)) return false;
+        rep.negative_eigenvalues = tangent_inertia();  // K_ is at u
+      }
       return true;
     }
     // Linear solve.
-    auto& S = *solvers_;
     if (opt_.linear != LinearSolver::gmres) {
       double* kv = S.Kff.valuePtr();
       const double* fv = K_.valuePtr();
@@ -324,6 +348,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
                 "every rigid motion of some part of the body)");
           S.lattice_ready = true;
           S.xfull.setZero(static_cast<Eigen::Index>(n));
+          S.yfull.setZero(static_cast<Eigen::Index>(n));
         }
         mark();
         // Forcing term (inexact Newton, Eisenstat & Walker 1996): ‖R‖² keeps the quadratic
@@ -337,8 +362,18 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
         // threads than with 1 at 216 points, load 12).
         const bool threaded = K_.nonZeros() > 4'000'000;
         const Gmres::Operator apply_K = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+          const auto tp = std::chrono::steady_clock::now();
           double* xf = S.xfull.data();
           const int* fd = free_dofs_.data();
+          ++rep.operator_products;
+          if (mf) {  // prescribed entries of xfull stay 0
+            for (int i = 0; i < nf; ++i) xf[fd[i]] = in[i];
+            model_->apply_tangent(S.xfull, S.yfull);
+            for (int i = 0; i < nf; ++i) out[i] = S.yfull[fd[i]];
+            rep.product_seconds +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
+            return;
+          }
 #pragma omp parallel for schedule(static) if (threaded)
           for (int i = 0; i < nf; ++i) xf[fd[i]] = in[i];
           const double* kv = K_.valuePtr();
@@ -351,6 +386,8 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
             for (auto q = ko[r]; q < ko[r + 1]; ++q) s += kv[q] * xf[ki[q]];
             out[i] = s;
           }
+          rep.product_seconds +=
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
         };
         const Gmres::Operator apply_M = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
           const SerialBlas serial;
@@ -454,7 +491,9 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
         // Diagnosis: inertia of the tangent at the last converged state.
         std::string why = "the tangent at the last converged state could not be evaluated";
         Eigen::VectorXd ftmp;
-        if (model_->internal_force_and_tangent(u_, ftmp, K_)) {
+        if (opt_.matrix_free)
+          why = "the tangent's inertia was not evaluated (matrix-free: K is not assembled)";
+        else if (model_->internal_force_and_tangent(u_, ftmp, K_)) {
           const int neg = tangent_inertia();
           why = neg == 0 ? fmt::format(
                                "the tangent at the last converged load factor {:.6g} is "

@@ -5,8 +5,12 @@
 // displaced); times from the solver's own per-step report (summed over the Newton
 // iterations, divided by their number), peak RSS from getrusage (= VmHWM), also before the
 // Newton run (discretisation + model + solver set-up).
-// Usage: bench_solver_newton <dim> <n> [linear=umfpack|cholmod|lu|bicgstab|gmres] [weak|energy]
-//        [tolerance=1e-8]  (a looser tolerance stops after fewer iterations at large sizes)
+// Usage: bench_solver_newton <dim> <n> [linear=umfpack|cholmod|lu|bicgstab|gmres|gmres-mf]
+//        [weak|energy] [tolerance=1e-8]  (a looser tolerance stops after fewer iterations at
+//        large sizes; gmres-mf: GMRES with matrix-free products, NewtonOptions::matrix_free)
+// Matrix-free rows also report the tangent products (count, seconds per product and per
+// Newton iteration) and the bytes of the operator data (packed stencil tangents); for them
+// assembly_s_per_it is the residual + per-stencil tangent evaluation (no K).
 // (energy: the symmetric energy boundary form, which CHOLMOD can factorise; the weak
 // form's tangent is unsymmetric and CHOLMOD is replaced by UMFPACK).
 #include <sys/resource.h>
@@ -76,7 +80,9 @@ int main(int argc, char** argv) {
   NewtonOptions opt;
   opt.steps = 1;
   opt.tolerance = argc > 5 ? std::atof(argv[5]) : 1e-8;
-  opt.linear = parse_linear_solver(linear);
+  const bool mf = linear == "gmres-mf";
+  opt.linear = parse_linear_solver(mf ? "gmres" : linear);
+  opt.matrix_free = mf;
   StaticSolver solver(M, ds, {}, opt);
   StepReport last;
   const double rss_before_run = peak_rss_mb();
@@ -84,13 +90,26 @@ int main(int argc, char** argv) {
   solver.run([&](const StepReport& r) { last = r; });
   const double t_run = now() - t0;
   const int it = std::max(1, last.iterations);
+  std::string history;
+  for (double r : last.residual_history) {
+    if (!history.empty()) history.append(";");
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3e", r);
+    history.append(buf);
+  }
+  const double peak = peak_rss_mb();
   std::printf(
       "dim=%d n=%d points=%zu bonds=%zu linear=%s form=%s discretization_s=%.3f model_s=%.3f "
       "newton_iterations=%d assembly_s_per_it=%.4f factor_s_per_it=%.4f solve_s_per_it=%.4f "
-      "krylov_iterations=%d run_s=%.3f rss_before_newton_mb=%.0f peak_rss_mb=%.0f load1=%.2f\n",
+      "krylov_iterations=%d products=%d product_s=%.4f product_s_per_it=%.3f operator_mb=%.0f "
+      "run_s=%.3f rss_before_newton_mb=%.0f peak_rss_mb=%.0f kb_per_point=%.1f load1=%.2f "
+      "history=%s\n",
       dim, n, D.size(), D.families().index.size(), linear.c_str(), form.c_str(), t_disc, t_model,
       last.iterations, last.assembly_seconds / it, last.factor_seconds / it,
-      (last.solve_seconds - last.factor_seconds) / it, last.krylov_iterations, t_run,
-      rss_before_run, peak_rss_mb(), load1);
+      (last.solve_seconds - last.factor_seconds) / it, last.krylov_iterations,
+      last.operator_products,
+      last.operator_products > 0 ? last.product_seconds / last.operator_products : 0.0,
+      last.product_seconds / it, static_cast<double>(M.operator_bytes()) / (1 << 20), t_run,
+      rss_before_run, peak, 1024.0 * peak / static_cast<double>(D.size()), load1, history.c_str());
   return 0;
 }

@@ -29,7 +29,9 @@
 /// Extensions: solver.formulation (weak | energy), solver.correspondence
 /// (bond-associated | classical), solver.max_cutbacks, solver.check_stability (bool,
 /// default false: LDLᵀ inertia of the converged tangent after every load step, NumericalError
-/// on a negative eigenvalue; one extra factorisation per step). Regions select points by
+/// on a negative eigenvalue; one extra factorisation per step), solver.matrix_free (bool,
+/// default false, needs linear: gmres: tangent products from the per-stencil tangents, no
+/// assembled K; docs/solver.md §4). Regions select points by
 /// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
 /// Displacement and traction values are numbers (constant) or expressions in t.
 /// Unknown keys are errors listing the valid ones.

@@ -71,6 +71,25 @@ class Model {
   /// first call; later calls refill its values in place).
   bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow& K) const;
 
+  /// Matrix-free tangent (docs/solver.md §4, "Matrix-free GMRES"). Internal force f(u) (as
+  /// internal_force) and, per energy stencil, the weighted material tangent w_S A(F_S) packed
+  /// by its major symmetry A_aJbL = A_bLaJ (hyperelastic materials: d²(d²+1)/2 doubles, 45 in
+  /// 3D, 10 in 2D, instead of the d⁴ the row gather reads), plus, per weak row k, the
+  /// d × d² block Σ_J Ā_aJbL(F̄_k) e_kJ of the boundary correction. K is never assembled and
+  /// neither the reverse point → stencil index nor the matrix pattern is built. Returns
+  /// false if some F is inadmissible. Throws NumericalError if a stencil tangent lacks major
+  /// symmetry (a material not derived from an energy).
+  bool internal_force_and_operator(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
+  /// out = K v with K = ∂f/∂u at the state of the last internal_force_and_operator call,
+  /// without K: one fused sweep over the energy stencils,
+  ///   out_k = Σ_{S∋k} (w_S A_S : δF_S) G_S^k,   δF_S = Σ_{m∈S} v_m ⊗ G_S^m,
+  /// then −(Ā_k : δF̄_k) e_k on the weak rows and κ v_k on the anchors. Private force
+  /// arrays per thread, static schedule, no allocation after the first call. v and out are
+  /// full (d·N) vectors; out is resized if needed.
+  void apply_tangent(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;
+  /// Bytes of the matrix-free operator's data (packed tangents, weak-row blocks).
+  std::size_t operator_bytes() const;
+
   /// Point deformation gradients: weighted mean of the energy stencils centred
   /// at each point (BA: Σ_j φ̂_ij V_j F_ij; classical: F_i). 3×3 with the
   /// in-plane block filled (2D: F₃₃ = 1).
@@ -107,6 +126,13 @@ class Model {
   template <int D>
   bool residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   void fill_pattern(SparseRow& K) const;
+  /// Builds the reverse index, the point adjacency and the pattern size on first use (only
+  /// the assembled tangent and the row sums need them; the matrix-free operator does not).
+  void build_index() const;
+  template <int D>
+  bool operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
+  template <int D>
+  void product_sweep(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;
   template <int D>
   void assemble_rows(Eigen::VectorXd& f, SparseRow& K) const;
 
@@ -115,17 +141,19 @@ class Model {
   ModelOptions opt_;
   int d_;
   const Stencils* energy_;  // bond or point stencils
-  // Reverse index: for each point, the (stencil, member position) pairs holding it.
-  Csr member_of_;
-  std::vector<int> member_pos_;
+  // Reverse index: for each point, the (stencil, member position) pairs holding it (built
+  // lazily by build_index(): 8 bytes per stencil member, ≈ 59 kB per 3D point).
+  mutable bool indexed_ = false;
+  mutable Csr member_of_;
+  mutable std::vector<int> member_pos_;
   std::vector<Vec3> smeared_, defect_;
   // Weak-form correction rows: weak_id_[k] = position of point k in weak_points_ (and in
   // Pbar_/Abar_), −1 for interior points (no correction).
   std::vector<int> weak_id_;
   std::vector<int> weak_points_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
-  Csr adjacency_;
-  std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)
+  mutable Csr adjacency_;
+  mutable std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
   mutable std::vector<Mat3> Ps_;
   mutable std::vector<double> Ac_;     // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
@@ -134,6 +162,10 @@ class Model {
   // Residual: per-thread force accumulators for threads 1… (thread 0 writes into f).
   mutable std::vector<std::vector<double>> fbuf_;
   mutable std::vector<std::vector<int>> slot_;  // per thread: column slot of each point
+  // Matrix-free operator (internal_force_and_operator / apply_tangent).
+  mutable std::vector<double> Apk_;  // per stencil: w_S A_S, upper triangle of d²×d², row-major
+  mutable std::vector<double> Wk_;   // per weak row: d × d², Σ_J Ā_aJbL e_J
+  mutable std::vector<std::vector<double>> mvbuf_;  // per-thread accumulators (threads 1…)
   std::vector<int> anchor_points_;
   std::vector<double> anchor_u_;  // d per anchored point
   double anchor_k_ = 0.0;

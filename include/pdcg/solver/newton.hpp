@@ -15,7 +15,8 @@
 /// UMFPACK (default for the unsymmetric weak form), Eigen SparseLU, or
 /// BiCGSTAB with an incomplete-LU preconditioner, or restarted GMRES preconditioned by a
 /// CHOLMOD factor of a lattice (Q1 finite-element) stiffness on the same points, for
-/// systems whose LU does not fit in memory (krylov.hpp).
+/// systems whose LU does not fit in memory (krylov.hpp) — with an assembled K_ff or
+/// matrix-free (NewtonOptions::matrix_free: products from the per-stencil tangents).
 #pragma once
 
 #include <Eigen/Core>
@@ -68,6 +69,11 @@ struct NewtonOptions {
   /// per linear solve; not reaching the forcing tolerance throws NumericalError.
   int gmres_restart = 50;
   int krylov_max_iterations = 2000;
+  /// GMRES only (linear = gmres): products K v from the per-stencil tangents
+  /// (Model::apply_tangent) instead of an assembled K — no K, no reverse index, the stencil
+  /// tangents packed by major symmetry (docs/solver.md §4, "Matrix-free GMRES"). K is then
+  /// assembled only on request (check_stability; relax).
+  bool matrix_free = false;
 };
 
 struct StepReport {
@@ -82,6 +88,8 @@ struct StepReport {
   double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation
                                   ///< (gmres: building and factorising the preconditioner)
   int krylov_iterations = 0;      ///< gmres / bicgstab: Krylov iterations, summed
+  int operator_products = 0;      ///< gmres: products by the tangent (Krylov + restarts + rhs)
+  double product_seconds = 0.0;   ///< gmres: time in those products, summed
   /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
   /// not checked, −2 if the LDLᵀ met a zero pivot (singular tangent).
   int negative_eigenvalues = -1;

@@ -110,6 +110,23 @@ TEST(Scene, BadInputIsReported) {
   EXPECT_NE(e.find("cannot parse"), std::string::npos) << e;
 }
 
+TEST(Scene, MatrixFreeGmres) {
+  // solver.matrix_free: accepted with gmres, kept in the resolved scene, refused otherwise.
+  const auto s = scene::load_scene(
+      write("mf.yaml", replace(kContract, "linear: cholmod", "linear: gmres, matrix_free: true")));
+  EXPECT_TRUE(s.newton.matrix_free);
+  EXPECT_EQ(s.newton.linear, solver::LinearSolver::gmres);
+  const auto r = scene::load_scene(write("mf_resolved.yaml", scene::resolved_yaml(s)));
+  EXPECT_TRUE(r.newton.matrix_free);
+  auto e = error_of(replace(kContract, "linear: cholmod", "linear: cholmod, matrix_free: true"));
+  EXPECT_NE(e.find("need the GMRES linear solver"), std::string::npos) << e;
+  EXPECT_NE(e.find("linear: gmres"), std::string::npos) << e;
+  e = error_of(replace(kContract, "linear: cholmod", "linear: gmres, matrix_free: yes please"));
+  EXPECT_NE(e.find("not a boolean"), std::string::npos) << e;
+  e = error_of(replace(kContract, "linear: cholmod", "linear: gmres, matrixfree: true"));
+  EXPECT_NE(e.find("matrix_free"), std::string::npos) << e;  // valid keys listed
+}
+
 TEST(Scene, MissingConstraintIsReported) {
   // No y-constraint: the static problem is singular.
   std::string text = replace(

@@ -1,6 +1,7 @@
-// Zero allocations in the hot loops (issue 10): the residual evaluation f(u) and the
-// residual + tangent assembly into the pattern built by the Model constructor must
-// not touch the heap once the scratch buffers exist (first call). A counting global
+// Zero allocations in the hot loops (issue 10): the residual evaluation f(u), the
+// residual + tangent assembly into K's pattern, and the matrix-free operator (its
+// evaluation and the product K v) must not touch the heap once the scratch buffers exist
+// (first call). A counting global
 // operator new (all forms) and a counting malloc/calloc/realloc (Eigen and libgomp
 // allocate through malloc, not operator new) are active in this executable only;
 // counting is switched on around the calls under test.
@@ -117,6 +118,10 @@ void check(int dim, Kinematics kin, ModelOptions mo) {
   // First calls size the scratch (stencil stresses/tangents) and K's pattern.
   ASSERT_TRUE(M.internal_force(u, f));
   ASSERT_TRUE(M.internal_force_and_tangent(u, f, K));
+  // Matrix-free operator: the first evaluation and product size their scratch.
+  Eigen::VectorXd v = u, Jv(M.dofs());
+  ASSERT_TRUE(M.internal_force_and_operator(u, f));
+  M.apply_tangent(v, Jv);
   for (int rep = 0; rep < 3; ++rep) {
     bool ok = false;
     const Counts r = count([&] { ok = M.internal_force(u, f); });
@@ -127,6 +132,13 @@ void check(int dim, Kinematics kin, ModelOptions mo) {
     EXPECT_TRUE(ok);
     EXPECT_EQ(t.news, 0) << "operator new calls in the tangent assembly";
     EXPECT_EQ(t.mallocs, 0) << "malloc calls in the tangent assembly";
+    const Counts o = count([&] { ok = M.internal_force_and_operator(u, f); });
+    EXPECT_TRUE(ok);
+    EXPECT_EQ(o.news, 0) << "operator new calls in the matrix-free operator evaluation";
+    EXPECT_EQ(o.mallocs, 0) << "malloc calls in the matrix-free operator evaluation";
+    const Counts p = count([&] { M.apply_tangent(v, Jv); });
+    EXPECT_EQ(p.news, 0) << "operator new calls in the matrix-free product";
+    EXPECT_EQ(p.mallocs, 0) << "malloc calls in the matrix-free product";
   }
 }
 

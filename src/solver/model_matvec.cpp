@@ -1,0 +1,295 @@
+// Matrix-free tangent of the correspondence model (model.hpp: internal_force_and_operator,
+// apply_tangent; docs/solver.md §4 "Matrix-free GMRES").
+//
+// The tangent K = ∂f/∂u is never assembled. Per Newton iteration one sweep over the energy
+// stencils evaluates f and stores w_S A(F_S) packed by major symmetry; each product K v is
+// then one fused sweep over the stencils, the same data stream as the residual
+// (Model::residual_kernel): members and G_S^m read once, δF_S gathered, δP_S = w_S A_S : δF_S,
+// out_m += δP_S G_S^m scattered into a private force array per thread (static schedule,
+// contiguous stencil ranges, summed in a fixed order: deterministic for a thread count).
+// Flops per stencil member: 4d² (gather + scatter), per stencil d⁴ (the packed product);
+// bytes per member: 4 + 8d (index, G), per stencil 8·d²(d²+1)/2 (the packed tangent).
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "pdcg/core/error.hpp"
+#include "pdcg/solver/model.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pdcg::solver {
+
+namespace {
+int mv_max_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+int mv_thread_id() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+int mv_team_size() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
+// dF[a·D + J] = Σ_{m∈S} v_m,a G_S^m,J
+template <int D>
+[[gnu::always_inline]] inline void gather(const int* idx, const double* grad, std::int64_t r0,
+                                          std::int64_t r1, const double* v, double (&dF)[D * D]) {
+  for (int i = 0; i < D * D; ++i) dF[i] = 0.0;
+  for (auto r = r0; r < r1; ++r) {
+    const double* vm = v + static_cast<std::int64_t>(D) * idx[r];
+    const double* g = grad + r * D;
+    for (int a = 0; a < D; ++a)
+      for (int J = 0; J < D; ++J) dF[a * D + J] += vm[a] * g[J];
+  }
+}
+// out_m,a += Σ_J P[a·D + J] G_S^m,J
+template <int D>
+[[gnu::always_inline]] inline void scatter(const int* idx, const double* grad, std::int64_t r0,
+                                           std::int64_t r1, const double (&P)[D * D], double* out) {
+  for (auto r = r0; r < r1; ++r) {
+    double* om = out + static_cast<std::int64_t>(D) * idx[r];
+    const double* g = grad + r * D;
+    for (int a = 0; a < D; ++a) {
+      double t = 0.0;
+      for (int J = 0; J < D; ++J) t += P[a * D + J] * g[J];
+      om[a] += t;
+    }
+  }
+}
+
+// The product sweep over stencils [s0, s1) (Ap: packed w_S A_S, upper triangle row-major).
+template <int D>
+[[gnu::always_inline]] inline void product_range(const Stencils& S, std::size_t s0, std::size_t s1,
+                                                 const double* Ap, const double* v, double* out) {
+  constexpr int D2 = D * D, NP = D2 * (D2 + 1) / 2;
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  const std::int64_t* off = S.offsets.data();
+  for (std::size_t s = s0; s < s1; ++s) {
+    double dF[D2];
+    gather<D>(idx, grad, off[s], off[s + 1], v, dF);
+    const double* A = Ap + s * NP;
+    double dP[D2] = {};
+    int p = 0;
+    for (int i = 0; i < D2; ++i) {
+      dP[i] += A[p++] * dF[i];
+      for (int j = i + 1; j < D2; ++j, ++p) {
+        dP[i] += A[p] * dF[j];
+        dP[j] += A[p] * dF[i];
+      }
+    }
+    scatter<D>(idx, grad, off[s], off[s + 1], dP, out);
+  }
+}
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PDCG_MV_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
+#else
+#define PDCG_MV_CLONES
+#endif
+PDCG_MV_CLONES void product_range_2d(const Stencils& S, std::size_t s0, std::size_t s1,
+                                     const double* Ap, const double* v, double* out) {
+  product_range<2>(S, s0, s1, Ap, v, out);
+}
+PDCG_MV_CLONES void product_range_3d(const Stencils& S, std::size_t s0, std::size_t s1,
+                                     const double* Ap, const double* v, double* out) {
+  product_range<3>(S, s0, s1, Ap, v, out);
+}
+
+// Products run on one thread below this many stencil members: a product has one parallel
+// region, and on a loaded machine a barrier can cost a time slice (docs/performance.md).
+constexpr std::size_t kThreadedMembers = 1'000'000;
+}  // namespace
+
+template <int D>
+bool Model::operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  constexpr int D2 = D * D, NP = D2 * (D2 + 1) / 2;
+  const Stencils& S = *energy_;
+  const std::size_t ns = S.size(), ndof = dofs();
+  Apk_.resize(ns * NP);
+  const auto nextra = static_cast<std::size_t>(std::max(0, mv_max_threads() - 1));
+  if (mvbuf_.size() < nextra) mvbuf_.resize(nextra);
+  for (std::size_t t = 0; t < nextra; ++t)
+    if (mvbuf_[t].size() != ndof) mvbuf_[t].assign(ndof, 0.0);
+  const double* ud = u.data();
+  double* fd = f.data();
+  const int* idx = S.index.data();
+  const double* grad = S.grad.data();
+  const std::int64_t* off = S.offsets.data();
+  bool ok = true;
+  double asym = 0.0;  // max |A_ij − A_ji| / max |A| over the stencils
+#pragma omp parallel reduction(&& : ok) reduction(max : asym)
+  {
+    const int t = mv_thread_id(), nt = mv_team_size();
+    double* ft = t == 0 ? fd : mvbuf_[static_cast<std::size_t>(t - 1)].data();
+    if (t > 0) std::fill(ft, ft + ndof, 0.0);
+    const std::size_t s0 = ns * t / nt, s1 = ns * (t + 1) / nt;
+    Tangent A;
+    Mat3 P;
+    for (std::size_t s = s0; s < s1; ++s) {
+      double G[D2];
+      gather<D>(idx, grad, off[s], off[s + 1], ud, G);
+      Mat3 F = Mat3::Identity();
+      for (int a = 0; a < D; ++a)
+        for (int J = 0; J < D; ++J) F(a, J) += G[a * D + J];
+      double* Ac = Apk_.data() + s * NP;
+      if (!material_->evaluate_at(S.center[s], F, nullptr, &P, &A)) {
+        ok = false;
+        std::fill(Ac, Ac + NP, 0.0);
+        continue;
+      }
+      const double w = S.weight[s];
+      double wP[D2];
+      for (int a = 0; a < D; ++a)
+        for (int J = 0; J < D; ++J) wP[a * D + J] = w * P(a, J);
+      scatter<D>(idx, grad, off[s], off[s + 1], wP, ft);
+      double amax = 0.0, dmax = 0.0;
+      int p = 0;
+      for (int i = 0; i < D2; ++i)
+        for (int j = i; j < D2; ++j, ++p) {
+          const double aij = A(flat(i / D, i % D), flat(j / D, j % D));
+          const double aji = A(flat(j / D, j % D), flat(i / D, i % D));
+          amax = std::max(amax, std::abs(aij));
+          dmax = std::max(dmax, std::abs(aij - aji));
+          Ac[p] = w * 0.5 * (aij + aji);
+        }
+      if (amax > 0) asym = std::max(asym, dmax / amax);
+    }
+#pragma omp barrier
+    if (nt > 1) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < ndof; ++i) {
+        double v = fd[i];
+        for (int q = 1; q < nt; ++q) v += mvbuf_[static_cast<std::size_t>(q - 1)][i];
+        fd[i] = v;
+      }
+    }
+  }
+  // Hyperelastic tangents are symmetric to round-off (≈ 1e-16 relative); 1e-8 leaves room
+  // for tangents computed by sums over many bonds (Cauchy–Born) and catches a real lack.
+  if (asym > 1e-8)
+    throw NumericalError(
+        "matrix-free tangent: the material tangent lacks major symmetry (max |A_aJbL − "
+        "A_bLaJ| / max |A| = " +
+        std::to_string(asym) +
+        "); the packed matrix-free operator needs a hyperelastic material (use the assembled "
+        "tangent: solver.matrix_free: false)");
+  return ok;
+}
+
+bool Model::internal_force_and_operator(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
+  f.setZero();
+  const bool ok = d_ == 2 ? operator_sweep<2>(u, f) : operator_sweep<3>(u, f);
+  if (!ok || !evaluate_weak_rows(u, true)) return false;
+  // Weak rows: f_k −= P(F̄_k) e_k, and the block W_k[a][bL] = Σ_J Ā_aJbL e_J of
+  // ∂(P(F̄_k) e_k)/∂F̄_k for the products.
+  const std::size_t nw = weak_points_.size();
+  const int d = d_, d2 = d * d;
+  Wk_.resize(nw * static_cast<std::size_t>(d * d2));
+#pragma omp parallel for schedule(static)
+  for (std::size_t w = 0; w < nw; ++w) {
+    const auto k = static_cast<std::size_t>(weak_points_[w]);
+    const Vec3& e = defect_[k];
+    const Tangent& A = Abar_[w];
+    double* W = Wk_.data() + w * static_cast<std::size_t>(d * d2);
+    for (int a = 0; a < d; ++a) {
+      for (int J = 0; J < d; ++J) f[d * k + a] -= Pbar_[w](a, J) * e(J);
+      for (int b = 0; b < d; ++b)
+        for (int L = 0; L < d; ++L) {
+          double t = 0;
+          for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
+          W[a * d2 + b * d + L] = t;
+        }
+    }
+  }
+  if (!anchor_points_.empty()) add_anchors(u, f, nullptr);
+  return true;
+}
+
+template <int D>
+void Model::product_sweep(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+  constexpr int D2 = D * D;
+  const Stencils& S = *energy_;
+  const Stencils& Pst = body_->point_stencils();
+  const std::size_t ns = S.size(), ndof = dofs(), nw = weak_points_.size();
+  const bool threaded = S.index.size() > kThreadedMembers;
+  const auto nextra = static_cast<std::size_t>(std::max(0, mv_max_threads() - 1));
+  if (threaded) {
+    if (mvbuf_.size() < nextra) mvbuf_.resize(nextra);
+    for (std::size_t t = 0; t < nextra; ++t)
+      if (mvbuf_[t].size() != ndof) mvbuf_[t].assign(ndof, 0.0);
+  }
+  const double* vd = v.data();
+  double* od = out.data();
+  const double* Ap = Apk_.data();
+#pragma omp parallel if (threaded)
+  {
+    const int t = mv_thread_id(), nt = mv_team_size();
+    double* ot = t == 0 ? od : mvbuf_[static_cast<std::size_t>(t - 1)].data();
+    std::fill(ot, ot + ndof, 0.0);
+    const std::size_t s0 = ns * t / nt, s1 = ns * (t + 1) / nt;
+    if (D == 2)
+      product_range_2d(S, s0, s1, Ap, vd, ot);
+    else
+      product_range_3d(S, s0, s1, Ap, vd, ot);
+#pragma omp barrier
+    if (nt > 1) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < ndof; ++i) {
+        double x = od[i];
+        for (int q = 1; q < nt; ++q) x += mvbuf_[static_cast<std::size_t>(q - 1)][i];
+        od[i] = x;
+      }
+    }
+    // Weak rows: out_k −= W_k δF̄_k, δF̄_k = Σ_{m∈H̄_k} v_m ⊗ Ḡ_k^m (each row written by one
+    // thread; after the reduction's implicit barrier).
+#pragma omp for schedule(static)
+    for (std::size_t w = 0; w < nw; ++w) {
+      const int k = weak_points_[w];
+      double dF[D2];
+      gather<D>(Pst.index.data(), Pst.grad.data(), Pst.offsets[k], Pst.offsets[k + 1], vd, dF);
+      const double* W = Wk_.data() + w * static_cast<std::size_t>(D * D2);
+      for (int a = 0; a < D; ++a) {
+        double x = 0.0;
+        for (int i = 0; i < D2; ++i) x += W[a * D2 + i] * dF[i];
+        od[static_cast<std::size_t>(D) * k + a] -= x;
+      }
+    }
+  }
+  for (std::size_t a = 0; a < anchor_points_.size(); ++a)
+    for (int c = 0; c < D; ++c) {
+      const auto i = static_cast<std::size_t>(D) * anchor_points_[a] + c;
+      od[i] += anchor_k_ * vd[i];
+    }
+}
+
+void Model::apply_tangent(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+  if (out.size() != static_cast<Eigen::Index>(dofs())) out.resize(dofs());
+  if (d_ == 2)
+    product_sweep<2>(v, out);
+  else
+    product_sweep<3>(v, out);
+}
+
+std::size_t Model::operator_bytes() const {
+  std::size_t b = (Apk_.capacity() + Wk_.capacity()) * sizeof(double);
+  for (const auto& x : mvbuf_) b += x.capacity() * sizeof(double);
+  return b;
+}
+
+}  // namespace pdcg::solver
