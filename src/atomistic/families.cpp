@@ -213,7 +213,6 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
   const auto nb = static_cast<std::size_t>(fam.offset[n]);
   fam.neighbor.resize(nb);
   fam.shift.resize(3 * nb);
-  fam.xi.resize(3 * nb);
   fam.reverse.resize(nb);
   const bool molecular = !special.empty();
   if (molecular) {
@@ -224,14 +223,8 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     auto b = static_cast<std::size_t>(fam.offset[i]);
     for (const auto& c : lists[i]) {
       fam.neighbor[b] = c.j;
-      const Eigen::Vector3d sh(c.shift[0], c.shift[1], c.shift[2]);
-      const auto j = static_cast<std::size_t>(c.j);
-      const Eigen::Vector3d xi = Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * i], atoms.x[3 * j + 1] - atoms.x[3 * i + 1],
-                                                 atoms.x[3 * j + 2] - atoms.x[3 * i + 2]) + H * sh;
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < 3; ++k)
         fam.shift[3 * b + static_cast<std::size_t>(k)] = c.shift[static_cast<std::size_t>(k)];
-        fam.xi[3 * b + static_cast<std::size_t>(k)] = xi[k];
-      }
       if (molecular) {
         auto it = special[i].find(c.j);
         if (it != special[i].end()) fam.pair_factor[b] = it->second;
@@ -264,14 +257,16 @@ void deformed_bonds(const Families& fam, std::span<const double> y, const Eigen:
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
-      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
-      const double s0 = fam.shift[3 * b], s1 = fam.shift[3 * b + 1], s2 = fam.shift[3 * b + 2];
-      for (int k = 0; k < 3; ++k)
-        out[3 * b + static_cast<std::size_t>(k)] = y[3 * j + static_cast<std::size_t>(k)] -
-                                                   y[3 * i + static_cast<std::size_t>(k)] + hd(k, 0) * s0 +
-                                                   hd(k, 1) * s1 + hd(k, 2) * s2;
+      const Eigen::Vector3d v = bond_vector(fam, y, hd, i, b);
+      for (int k = 0; k < 3; ++k) out[3 * b + static_cast<std::size_t>(k)] = v[k];
     }
   }
+}
+
+std::vector<double> bond_vectors(const Families& fam, std::span<const double> x) {
+  std::vector<double> out(3 * fam.bonds());
+  deformed_bonds(fam, x, fam.h, out);
+  return out;
 }
 
 double force_states(const Potential& potential, const Families& fam, std::span<const int> type,

@@ -134,7 +134,9 @@ void write_body(const Body& b, const std::filesystem::path& path) {
   w.write("families/offset", f.offset);
   w.write("families/neighbor", to64(f.neighbor, 0));
   w.write("families/shift", to64(f.shift, 0), {nb, 3});
-  w.write("families/xi", f.xi, {nb, 3});
+  // ξ is derived from the positions (the Families do not hold it); written for readers of
+  // older pdcg versions and for tools, ignored on reading.
+  w.write("families/xi", atomistic::bond_vectors(f, b.x), {nb, 3});
   w.write("families/reverse", f.reverse);
   if (!f.pair_factor.empty()) w.write("families/pair_factor", f.pair_factor);
   if (!f.bond_type.empty()) w.write("families/bond_type", to64(f.bond_type));
@@ -226,7 +228,7 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   b.epsilon = r.attribute_double("/", "epsilon");
   for (auto item :
        {"box/lo", "box/hi", "box/tilt", "box/periodic", "points/id", "points/type", "points/x",
-        "points/mass", "families/offset", "families/neighbor", "families/shift", "families/xi",
+        "points/mass", "families/offset", "families/neighbor", "families/shift",
         "families/reverse", "families/h", "potential/lines"})
     need(item);
   const auto lo = r.read_double("box/lo"), hi = r.read_double("box/hi"),
@@ -255,7 +257,6 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   f.offset = r.read_int("families/offset");
   f.neighbor = narrow<std::int32_t>(r.read_int("families/neighbor"));
   f.shift = narrow<std::int32_t>(r.read_int("families/shift"));
-  f.xi = r.read_double("families/xi");
   f.reverse = r.read_int("families/reverse");
   if (r.exists("families/pair_factor")) f.pair_factor = r.read_double("families/pair_factor");
   if (r.exists("families/bond_type")) f.bond_type = narrow<int>(r.read_int("families/bond_type"));
@@ -265,7 +266,7 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   b.base_horizon = r.attribute_double("/families", "base_horizon");
   const std::size_t nb = f.neighbor.size();
   if (f.offset.size() != n + 1 || static_cast<std::size_t>(f.offset.back()) != nb ||
-      f.shift.size() != 3 * nb || f.xi.size() != 3 * nb || f.reverse.size() != nb)
+      f.shift.size() != 3 * nb || f.reverse.size() != nb)
     throw InputError("families are inconsistent with the points")
         .source(src)
         .key("families")

@@ -83,23 +83,9 @@ std::vector<std::vector<double>> displacements(const Body& body,
   return out;
 }
 
-/// Moves the body's reference positions to new means and recomputes the reference bonds
-/// ξ_b = x_j − x_k + H n_b (family topology unchanged).
-void move_means(Body& body, const std::vector<double>& mean) {
-  body.x = mean;
-  auto& fam = body.families;
-  for (std::size_t i = 0; i < fam.points(); ++i)
-    for (auto b = static_cast<std::size_t>(fam.offset[i]);
-         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
-      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
-      const Eigen::Vector3d n(fam.shift[3 * b], fam.shift[3 * b + 1], fam.shift[3 * b + 2]);
-      const Eigen::Vector3d xi =
-          Eigen::Vector3d(mean[3 * j] - mean[3 * i], mean[3 * j + 1] - mean[3 * i + 1],
-                          mean[3 * j + 2] - mean[3 * i + 2]) +
-          fam.h * n;
-      for (int k = 0; k < 3; ++k) fam.xi[3 * b + static_cast<std::size_t>(k)] = xi[k];
-    }
-}
+/// Moves the body's reference positions to new means (family topology unchanged; the reference
+/// bonds ξ_b = x_j − x_k + H n_b follow, as they are derived from the positions).
+void move_means(Body& body, const std::vector<double>& mean) { body.x = mean; }
 
 }  // namespace
 
