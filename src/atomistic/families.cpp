@@ -1,8 +1,11 @@
 #include "pdcg/atomistic/families.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -11,6 +14,8 @@
 namespace pdcg::atomistic {
 
 namespace {
+
+constexpr int kMaxShift = 127;  ///< Families::shift is int8
 
 struct Entry {
   std::int32_t atom;
@@ -53,7 +58,16 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
   std::array<int, 3> shells{0, 0, 0};
   for (int k = 0; k < 3; ++k)
     if (box.periodic[static_cast<std::size_t>(k)])
-      shells[static_cast<std::size_t>(k)] = static_cast<int>(std::ceil(rc / heights[k]));
+      shells[static_cast<std::size_t>(k)] =
+          static_cast<int>(std::min(std::ceil(rc / heights[k]), 1e9));
+  for (int k = 0; k < 3; ++k)
+    if (shells[static_cast<std::size_t>(k)] > kMaxShift)
+      throw InputError("periodic box much smaller than the cutoff")
+          .key("box")
+          .value(fmt::format("height {} along direction {}, cutoff {}", heights[k], k, rc))
+          .expected(fmt::format(
+              "box heights of at least cutoff/{} (image shifts are stored in one byte)", kMaxShift))
+          .fix("replicate the configuration (LAMMPS `replicate`) or use a smaller cutoff");
 
   const Eigen::Matrix3d Hinv = box.h_inverse();
   std::vector<Eigen::Vector3d> frac(n);
@@ -211,6 +225,12 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     fam.offset[i + 1] = fam.offset[i] + static_cast<std::int64_t>(l.size());
   }
   const auto nb = static_cast<std::size_t>(fam.offset[n]);
+  if (nb > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("too many bonds for the 32-bit bond index")
+        .key("bonds")
+        .value(std::to_string(nb))
+        .expected("at most 2147483647 bonds in all (about 4·10⁷ atoms at 54 bonds per atom)")
+        .fix("split the configuration, or use a smaller cutoff");
   fam.neighbor.resize(nb);
   fam.shift.resize(3 * nb);
   fam.reverse.resize(nb);
@@ -223,8 +243,18 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     auto b = static_cast<std::size_t>(fam.offset[i]);
     for (const auto& c : lists[i]) {
       fam.neighbor[b] = c.j;
-      for (int k = 0; k < 3; ++k)
-        fam.shift[3 * b + static_cast<std::size_t>(k)] = c.shift[static_cast<std::size_t>(k)];
+      for (int k = 0; k < 3; ++k) {
+        const std::int32_t sk = c.shift[static_cast<std::size_t>(k)];
+        if (sk < -kMaxShift || sk > kMaxShift)
+          throw InputError("periodic image shift does not fit in one byte")
+              .key(fmt::format("x of atom id {}", atoms.id[i]))
+              .value(fmt::format("image shift {} along direction {}", sk, k))
+              .expected(fmt::format("shifts within ±{} box lengths", kMaxShift))
+              .fix(
+                  "wrap the positions into the box (unwrapped by more than 127 box lengths?), or "
+                  "replicate a box far smaller than the cutoff");
+        fam.shift[3 * b + static_cast<std::size_t>(k)] = static_cast<std::int8_t>(sk);
+      }
       if (molecular) {
         auto it = special[i].find(c.j);
         if (it != special[i].end()) fam.pair_factor[b] = it->second;
@@ -244,7 +274,8 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
       const auto& l = lists[static_cast<std::size_t>(fam.neighbor[b])];
       auto it = std::lower_bound(l.begin(), l.end(), want);
       PDCG_ASSERT(it != l.end() && *it == want, "family asymmetry");
-      fam.reverse[b] = fam.offset[static_cast<std::size_t>(fam.neighbor[b])] + (it - l.begin());
+      fam.reverse[b] = static_cast<std::int32_t>(
+          fam.offset[static_cast<std::size_t>(fam.neighbor[b])] + (it - l.begin()));
     }
   }
   return fam;

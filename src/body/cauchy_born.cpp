@@ -34,7 +34,8 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
   const auto& fam = body.families;
   double scale = 0.0;
   for (std::size_t k = 0; k < body.size(); ++k)
-    for (auto b = static_cast<std::size_t>(fam.offset[k]); b < static_cast<std::size_t>(fam.offset[k + 1]); ++b)
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b)
       scale = std::max(scale, atomistic::bond_vector(fam, body.x, k, b).cwiseAbs().maxCoeff());
   const double tol = 1e-10 * std::max(scale, 1e-300);
   using Key = std::vector<std::tuple<long long, long long, long long, int, double, int>>;

@@ -13,14 +13,15 @@ namespace pdcg::dispersion {
 
 using cd = std::complex<double>;
 
-LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential, const atomistic::Families& fam,
-                                       std::span<const double> x, std::span<const int> type,
+LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential,
+                                       const atomistic::Families& fam, std::span<const double> x,
+                                       std::span<const int> type,
                                        std::span<const std::int32_t> atoms)
     : families_(&fam) {
   const std::size_t n = fam.points();
   if (x.size() != 3 * n)
-    throw Error("LinearisedFamilies: positions do not match the families (" + std::to_string(x.size() / 3) +
-                " positions, " + std::to_string(n) + " points)");
+    throw Error("LinearisedFamilies: positions do not match the families (" +
+                std::to_string(x.size() / 3) + " positions, " + std::to_string(n) + " points)");
   start_.assign(n, -1);
   bond_start_.assign(n, -1);
   std::vector<std::int32_t> list(atoms.begin(), atoms.end());

@@ -27,8 +27,13 @@ namespace pdcg::atomistic {
 struct Families {
   std::vector<std::int64_t> offset;  ///< N+1; bonds of k are [offset[k], offset[k+1])
   std::vector<std::int32_t> neighbor;
-  std::vector<std::int32_t> shift;    ///< 3 per bond: image shift n_b
-  std::vector<std::int64_t> reverse;  ///< index of the bond j → k
+  /// 3 per bond: image shift n_b, |n_b,i| ≤ 127 (build_families throws InputError beyond:
+  /// a periodic box edge shorter than 1/127 of the cutoff, or positions unwrapped by more
+  /// than 127 box lengths)
+  std::vector<std::int8_t> shift;
+  /// index of the bond j → k; int32: at most 2³¹ − 1 bonds in all (InputError beyond,
+  /// ≈ 4·10⁷ atoms at 54 bonds per atom)
+  std::vector<std::int32_t> reverse;
   std::vector<double> pair_factor;    ///< per bond, special_bonds factor; empty = all 1
   std::vector<int> bond_type;         ///< per bond, molecular bond type (0 = none); empty = none
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  ///< reference box matrix (periodic shifts)
@@ -62,7 +67,8 @@ inline Eigen::Vector3d bond_vector(const Families& f, std::span<const double> x,
 /// least 3·family size). Allocates nothing.
 inline void family_bond_vectors(const Families& f, std::span<const double> x, std::size_t k,
                                 double* out) {
-  const auto b0 = static_cast<std::size_t>(f.offset[k]), b1 = static_cast<std::size_t>(f.offset[k + 1]);
+  const auto b0 = static_cast<std::size_t>(f.offset[k]),
+             b1 = static_cast<std::size_t>(f.offset[k + 1]);
   for (std::size_t b = b0; b < b1; ++b) {
     const Eigen::Vector3d v = bond_vector(f, x, f.h, k, b);
     out[3 * (b - b0)] = v[0];
@@ -83,8 +89,9 @@ struct FamilyOptions {
 
 /// Builds the families of every atom with a cell list (O(N)); periodic directions of
 /// atoms.box contribute as many image shells as the cutoff needs (boxes smaller than the
-/// cutoff work). Families are sorted by (neighbour, shift). Throws InputError for a
-/// non-positive cutoff or a molecular bond naming an unknown atom id.
+/// cutoff work, down to an edge of 1/127 of the cutoff). Families are sorted by (neighbour,
+/// shift). Throws InputError for a non-positive cutoff, a molecular bond naming an unknown
+/// atom id, an image shift beyond ±127 box lengths or more than 2³¹ − 1 bonds.
 Families build_families(const Atoms& atoms, const FamilyOptions& options);
 
 /// Y_b = y_j − y_k + H_y n_b for every bond (y: 3N deformed positions in the same convention

@@ -89,11 +89,14 @@ void check(const Atoms& atoms, double rc) {
   const Eigen::Matrix3d H = atoms.box.h();
   std::vector<double> xi(3 * fam.bonds());
   for (std::size_t k = 0; k < fam.points(); ++k)
-    for (auto b = static_cast<std::size_t>(fam.offset[k]); b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
       const auto j = static_cast<std::size_t>(fam.neighbor[b]);
       const Eigen::Vector3d n(fam.shift[3 * b], fam.shift[3 * b + 1], fam.shift[3 * b + 2]);
-      const Eigen::Vector3d want = Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * k], atoms.x[3 * j + 1] - atoms.x[3 * k + 1],
-                                                   atoms.x[3 * j + 2] - atoms.x[3 * k + 2]) + H * n;
+      const Eigen::Vector3d want =
+          Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * k], atoms.x[3 * j + 1] - atoms.x[3 * k + 1],
+                          atoms.x[3 * j + 2] - atoms.x[3 * k + 2]) +
+          H * n;
       const Eigen::Vector3d got = bond_vector(fam, atoms.x, k, b);
       // round-off of a sum of |x| ≲ 10 and |H n| ≲ 10: 1e-12 absolute
       for (int c = 0; c < 3; ++c) ASSERT_NEAR(got[c], want[c], 1e-12);
@@ -104,7 +107,8 @@ void check(const Atoms& atoms, double rc) {
       ASSERT_EQ(static_cast<std::size_t>(fam.neighbor[r]), k);
     }
   for (std::size_t k = 0; k < fam.points(); ++k)
-    for (auto b = static_cast<std::size_t>(fam.offset[k]); b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
       const auto r = static_cast<std::size_t>(fam.reverse[b]);
       for (int c = 0; c < 3; ++c) ASSERT_NEAR(xi[3 * b + c], -xi[3 * r + c], 1e-12);
     }
@@ -141,6 +145,21 @@ TEST(Families, TriclinicBoxSmallerThanCutoffMatchesBruteForce) {
   b.yz = 0.5;
   // cutoff larger than every box height: several images of the same atom in one family
   check(random_atoms(12, b, 2), 3.1);
+}
+
+TEST(Families, ImageShiftsBeyondOneByteAreAnInputError) {
+  // Shifts are stored as int8: a periodic edge of 1/200 of the cutoff needs 200 images.
+  Box b;
+  b.hi = {0.01, 5, 5};
+  b.periodic = {true, false, false};
+  const Atoms a = random_atoms(1, b, 4);
+  EXPECT_THROW(build_families(a, {2.0}), pdcg::InputError);
+  // 1/126 of the cutoff still fits: 126 images on each side, the last ones at shift ±126.
+  const Families f = build_families(a, {1.26 + 1e-9});
+  EXPECT_EQ(f.bonds(), 252u);
+  int widest = 0;
+  for (auto s : f.shift) widest = std::max(widest, std::abs(static_cast<int>(s)));
+  EXPECT_EQ(widest, 126);
 }
 
 TEST(Families, FreeClusterHasNoImages) {

@@ -27,6 +27,9 @@ TEST(ModelFile, RoundTripEvaluatesIdentically) {
   Statistics st = isotropic_gaussian(b, 0.03);
   st.method = Statistics::Method::sampling;
   st.samples = 7;
+  Eigen::Matrix3d C0;  // a full symmetric covariance for atom 0 (off-diagonal terms too)
+  C0 << 9e-4, 2e-4, -1e-4, 2e-4, 8e-4, 3e-4, -1e-4, 3e-4, 7e-4;
+  st.set_covariance(0, C0);
   make_statistical(b, st);
   const auto dir = std::filesystem::temp_directory_path() / "pdcg_test_model_file";
   std::filesystem::create_directories(dir);
@@ -42,6 +45,10 @@ TEST(ModelFile, RoundTripEvaluatesIdentically) {
   EXPECT_EQ(c.kind, BodyKind::statistical);
   EXPECT_EQ(c.id, b.id);
   EXPECT_EQ(c.families.neighbor, b.families.neighbor);
+  EXPECT_EQ(c.families.shift, b.families.shift);
+  EXPECT_EQ(c.families.reverse, b.families.reverse);
+  EXPECT_EQ(c.statistics->covariance, b.statistics->covariance);
+  EXPECT_EQ(c.statistics->covariance_of(0), C0);
   Evaluator e1(b), e2(c);
   const Eigen::Matrix3d F = Eigen::Vector3d(1.1, 0.9, 1.05).asDiagonal();
   const double U1 = e1.homogeneous(F).energy, U2 = e2.homogeneous(F).energy;
