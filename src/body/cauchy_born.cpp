@@ -80,6 +80,16 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     rep_weight_[it->second] += wk[k];
     nmax_ = std::max(nmax_, fam.offset[k + 1] - fam.offset[k]);
   }
+  if (reps_.size() <= 64) {
+    rep_xi_offset_.assign(1, 0);
+    for (const auto r : reps_) {
+      const auto k = static_cast<std::size_t>(r);
+      const std::int64_t o = rep_xi_offset_.back();
+      rep_xi_offset_.push_back(o + 3 * (fam.offset[k + 1] - fam.offset[k]));
+      rep_xi_.resize(static_cast<std::size_t>(rep_xi_offset_.back()));
+      atomistic::family_bond_vectors(fam, body.x, k, rep_xi_.data() + o);
+    }
+  }
   // per-point class lists (point_sum)
   std::map<std::int32_t, double> acc;
   auto flush = [&]() {
@@ -131,8 +141,12 @@ void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, 
   const auto& pot = *body_.potential;
   const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
   const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
-  atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), s.xi.data());
   const double* xi = s.xi.data();
+  const auto slot = std::lower_bound(reps_.begin(), reps_.end(), static_cast<std::int32_t>(k));
+  if (!rep_xi_offset_.empty() && slot != reps_.end() && *slot == k)
+    xi = rep_xi_.data() + rep_xi_offset_[static_cast<std::size_t>(slot - reps_.begin())];
+  else
+    atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), s.xi.data());
   for (std::int64_t b = 0; b < n; ++b) {
     const auto bb = static_cast<std::size_t>(b);
     s.nt[bb] = body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
