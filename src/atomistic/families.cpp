@@ -1,8 +1,11 @@
 #include "pdcg/atomistic/families.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -11,6 +14,8 @@
 namespace pdcg::atomistic {
 
 namespace {
+
+constexpr int kMaxShift = 127;  ///< Families::shift is int8
 
 struct Entry {
   std::int32_t atom;
@@ -53,7 +58,16 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
   std::array<int, 3> shells{0, 0, 0};
   for (int k = 0; k < 3; ++k)
     if (box.periodic[static_cast<std::size_t>(k)])
-      shells[static_cast<std::size_t>(k)] = static_cast<int>(std::ceil(rc / heights[k]));
+      shells[static_cast<std::size_t>(k)] =
+          static_cast<int>(std::min(std::ceil(rc / heights[k]), 1e9));
+  for (int k = 0; k < 3; ++k)
+    if (shells[static_cast<std::size_t>(k)] > kMaxShift)
+      throw InputError("periodic box much smaller than the cutoff")
+          .key("box")
+          .value(fmt::format("height {} along direction {}, cutoff {}", heights[k], k, rc))
+          .expected(fmt::format(
+              "box heights of at least cutoff/{} (image shifts are stored in one byte)", kMaxShift))
+          .fix("replicate the configuration (LAMMPS `replicate`) or use a smaller cutoff");
 
   const Eigen::Matrix3d Hinv = box.h_inverse();
   std::vector<Eigen::Vector3d> frac(n);
@@ -211,9 +225,14 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     fam.offset[i + 1] = fam.offset[i] + static_cast<std::int64_t>(l.size());
   }
   const auto nb = static_cast<std::size_t>(fam.offset[n]);
+  if (nb > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("too many bonds for the 32-bit bond index")
+        .key("bonds")
+        .value(std::to_string(nb))
+        .expected("at most 2147483647 bonds in all (about 4·10⁷ atoms at 54 bonds per atom)")
+        .fix("split the configuration, or use a smaller cutoff");
   fam.neighbor.resize(nb);
   fam.shift.resize(3 * nb);
-  fam.xi.resize(3 * nb);
   fam.reverse.resize(nb);
   const bool molecular = !special.empty();
   if (molecular) {
@@ -224,13 +243,17 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     auto b = static_cast<std::size_t>(fam.offset[i]);
     for (const auto& c : lists[i]) {
       fam.neighbor[b] = c.j;
-      const Eigen::Vector3d sh(c.shift[0], c.shift[1], c.shift[2]);
-      const auto j = static_cast<std::size_t>(c.j);
-      const Eigen::Vector3d xi = Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * i], atoms.x[3 * j + 1] - atoms.x[3 * i + 1],
-                                                 atoms.x[3 * j + 2] - atoms.x[3 * i + 2]) + H * sh;
       for (int k = 0; k < 3; ++k) {
-        fam.shift[3 * b + static_cast<std::size_t>(k)] = c.shift[static_cast<std::size_t>(k)];
-        fam.xi[3 * b + static_cast<std::size_t>(k)] = xi[k];
+        const std::int32_t sk = c.shift[static_cast<std::size_t>(k)];
+        if (sk < -kMaxShift || sk > kMaxShift)
+          throw InputError("periodic image shift does not fit in one byte")
+              .key(fmt::format("x of atom id {}", atoms.id[i]))
+              .value(fmt::format("image shift {} along direction {}", sk, k))
+              .expected(fmt::format("shifts within ±{} box lengths", kMaxShift))
+              .fix(
+                  "wrap the positions into the box (unwrapped by more than 127 box lengths?), or "
+                  "replicate a box far smaller than the cutoff");
+        fam.shift[3 * b + static_cast<std::size_t>(k)] = static_cast<std::int8_t>(sk);
       }
       if (molecular) {
         auto it = special[i].find(c.j);
@@ -251,7 +274,8 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
       const auto& l = lists[static_cast<std::size_t>(fam.neighbor[b])];
       auto it = std::lower_bound(l.begin(), l.end(), want);
       PDCG_ASSERT(it != l.end() && *it == want, "family asymmetry");
-      fam.reverse[b] = fam.offset[static_cast<std::size_t>(fam.neighbor[b])] + (it - l.begin());
+      fam.reverse[b] = static_cast<std::int32_t>(
+          fam.offset[static_cast<std::size_t>(fam.neighbor[b])] + (it - l.begin()));
     }
   }
   return fam;
@@ -264,14 +288,16 @@ void deformed_bonds(const Families& fam, std::span<const double> y, const Eigen:
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
-      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
-      const double s0 = fam.shift[3 * b], s1 = fam.shift[3 * b + 1], s2 = fam.shift[3 * b + 2];
-      for (int k = 0; k < 3; ++k)
-        out[3 * b + static_cast<std::size_t>(k)] = y[3 * j + static_cast<std::size_t>(k)] -
-                                                   y[3 * i + static_cast<std::size_t>(k)] + hd(k, 0) * s0 +
-                                                   hd(k, 1) * s1 + hd(k, 2) * s2;
+      const Eigen::Vector3d v = bond_vector(fam, y, hd, i, b);
+      for (int k = 0; k < 3; ++k) out[3 * b + static_cast<std::size_t>(k)] = v[k];
     }
   }
+}
+
+std::vector<double> bond_vectors(const Families& fam, std::span<const double> x) {
+  std::vector<double> out(3 * fam.bonds());
+  deformed_bonds(fam, x, fam.h, out);
+  return out;
 }
 
 double force_states(const Potential& potential, const Families& fam, std::span<const int> type,

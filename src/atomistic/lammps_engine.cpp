@@ -502,10 +502,10 @@ double lammps_force_states(const LammpsEngine& engine, const Atoms& atoms, const
             .fix("replicate the configuration (LAMMPS `replicate`) before building the body");
   if (step == 0.0 && families.bonds() > 0) {
     double sum = 0.0;
-    for (std::size_t b = 0; b < families.bonds(); ++b)
-      sum += std::sqrt(families.xi[3 * b] * families.xi[3 * b] +
-                       families.xi[3 * b + 1] * families.xi[3 * b + 1] +
-                       families.xi[3 * b + 2] * families.xi[3 * b + 2]);
+    for (std::size_t k = 0; k < n; ++k)
+      for (auto b = static_cast<std::size_t>(families.offset[k]);
+           b < static_cast<std::size_t>(families.offset[k + 1]); ++b)
+        sum += bond_vector(families, atoms.x, k, b).norm();
     step = 1e-5 * sum / static_cast<double>(families.bonds());  // O(h²) ≈ 1e-10 relative
   }
   if (step == 0.0) step = 1e-5;

@@ -210,7 +210,6 @@ Evaluator::Evaluator(const Body& body) : body_(body) {
     throw InputError("body has no potential").fix("build the body with a potential");
   const std::size_t n = body.size(), nb = body.families.bonds();
   y_.resize(3 * n);
-  bonds_.resize(3 * nb);
   t_.resize(3 * nb);
   psi_.resize(n);
   f_.resize(3 * n);
@@ -230,25 +229,36 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
         .key("positions")
         .value(std::to_string(y.size() / 3))
         .expected(std::to_string(body_.size()) + " atoms with the body's ids");
-  atomistic::deformed_bonds(fam, y, h_y, bonds_);
   Evaluation e;
   if (body_.statistics) {
-    e.energy = detail::statistical_force_states(body_, *body_.statistics, y, h_y, G, bonds_, psi_,
-                                                t_, *scratch_);
+    e.energy =
+        detail::statistical_force_states(body_, *body_.statistics, y, h_y, G, psi_, t_, *scratch_);
   } else {
     // ψ_k and t_b per atom (atomistic::force_states without its per-call type buffer: the
-    // partner types are cached once in the constructor, so this loop allocates nothing)
+    // partner types are cached once in the constructor). The deformed bonds Y_b of atom k are
+    // built in a per-thread buffer (grown once per thread to the largest family), so the
+    // evaluator holds no per-bond array besides t, and this loop allocates nothing after the
+    // first call.
     const auto& pot = *body_.potential;
     double total = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : total)
     for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body_.size()); ++ii) {
       const auto i = static_cast<std::size_t>(ii);
-      const auto b0 = static_cast<std::size_t>(fam.offset[i]);
+      const auto b0 = static_cast<std::size_t>(fam.offset[i]),
+                 b1 = static_cast<std::size_t>(fam.offset[i + 1]);
+      thread_local std::vector<double> yb;
+      if (yb.size() < 3 * (b1 - b0)) yb.resize(3 * (b1 - b0));
+      for (std::size_t b = b0; b < b1; ++b) {
+        const Eigen::Vector3d v = atomistic::bond_vector(fam, y, h_y, i, b);
+        yb[3 * (b - b0)] = v[0];
+        yb[3 * (b - b0) + 1] = v[1];
+        yb[3 * (b - b0) + 2] = v[2];
+      }
       atomistic::FamilyState f;
       f.type = body_.type[i];
       f.size = fam.offset[i + 1] - fam.offset[i];
       f.neighbor_type = ntype_.data() + b0;
-      f.bond = bonds_.data() + 3 * b0;
+      f.bond = yb.data();
       f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
       f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
       psi_[i] = pot.force_state(f, t_.data() + 3 * b0);

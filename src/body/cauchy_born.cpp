@@ -33,7 +33,10 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
   // class, so W, P, A cost one family instead of N.
   const auto& fam = body.families;
   double scale = 0.0;
-  for (double v : fam.xi) scale = std::max(scale, std::abs(v));
+  for (std::size_t k = 0; k < body.size(); ++k)
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b)
+      scale = std::max(scale, atomistic::bond_vector(fam, body.x, k, b).cwiseAbs().maxCoeff());
   const double tol = 1e-10 * std::max(scale, 1e-300);
   using Key = std::vector<std::tuple<long long, long long, long long, int, double, int>>;
   std::map<std::pair<int, Key>, std::int32_t> classes;
@@ -43,8 +46,9 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     Key key;
     for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
       const auto bb = static_cast<std::size_t>(b);
-      key.emplace_back(std::llround(fam.xi[3 * bb] / tol), std::llround(fam.xi[3 * bb + 1] / tol),
-                       std::llround(fam.xi[3 * bb + 2] / tol),
+      const Eigen::Vector3d xi = atomistic::bond_vector(fam, body.x, k, bb);
+      key.emplace_back(std::llround(xi[0] / tol), std::llround(xi[1] / tol),
+                       std::llround(xi[2] / tol),
                        body.type[static_cast<std::size_t>(fam.neighbor[bb])],
                        fam.pair_factor.empty() ? 1.0 : fam.pair_factor[bb],
                        fam.bond_type.empty() ? 0 : fam.bond_type[bb]);
@@ -76,6 +80,16 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     rep_weight_[it->second] += wk[k];
     nmax_ = std::max(nmax_, fam.offset[k + 1] - fam.offset[k]);
   }
+  if (reps_.size() <= 64) {
+    rep_xi_offset_.assign(1, 0);
+    for (const auto r : reps_) {
+      const auto k = static_cast<std::size_t>(r);
+      const std::int64_t o = rep_xi_offset_.back();
+      rep_xi_offset_.push_back(o + 3 * (fam.offset[k + 1] - fam.offset[k]));
+      rep_xi_.resize(static_cast<std::size_t>(rep_xi_offset_.back()));
+      atomistic::family_bond_vectors(fam, body.x, k, rep_xi_.data() + o);
+    }
+  }
   // per-point class lists (point_sum)
   std::map<std::int32_t, double> acc;
   auto flush = [&]() {
@@ -103,11 +117,12 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
 }
 
 struct CauchyBorn::Scratch {
-  std::vector<double> Y, t, K, work, M;
+  std::vector<double> xi, Y, t, K, work, M;
   std::vector<int> nt;
   void size(std::int64_t nmax, bool tangent) {
     const auto n = static_cast<std::size_t>(nmax);
     if (Y.size() < 3 * n) {
+      xi.resize(3 * n);
       Y.resize(3 * n);
       t.resize(3 * n);
       nt.resize(n);
@@ -126,7 +141,12 @@ void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, 
   const auto& pot = *body_.potential;
   const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
   const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
-  const double* xi = fam.xi.data() + 3 * b0;
+  const double* xi = s.xi.data();
+  const auto slot = std::lower_bound(reps_.begin(), reps_.end(), static_cast<std::int32_t>(k));
+  if (!rep_xi_offset_.empty() && slot != reps_.end() && *slot == k)
+    xi = rep_xi_.data() + rep_xi_offset_[static_cast<std::size_t>(slot - reps_.begin())];
+  else
+    atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), s.xi.data());
   for (std::int64_t b = 0; b < n; ++b) {
     const auto bb = static_cast<std::size_t>(b);
     s.nt[bb] = body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
@@ -190,7 +210,7 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
   {
     // per-thread work arrays, sized once for the largest family
     std::vector<double> Y(static_cast<std::size_t>(3 * nmax)),
-        t(static_cast<std::size_t>(3 * nmax));
+        t(static_cast<std::size_t>(3 * nmax)), xis(static_cast<std::size_t>(3 * nmax));
     std::vector<int> nt(static_cast<std::size_t>(nmax));
     std::vector<double> K, work, M;
     if (tangent) {
@@ -203,7 +223,8 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
       if (representative_[static_cast<std::size_t>(k)] != k) continue;
       const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
       const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
-      const double* xi = fam.xi.data() + 3 * b0;
+      atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), xis.data());
+      const double* xi = xis.data();
       for (std::int64_t b = 0; b < n; ++b) {
         const auto bb = static_cast<std::size_t>(b);
         nt[bb] =

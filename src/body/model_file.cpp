@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -19,12 +20,32 @@ namespace pdcg::body {
 namespace {
 
 std::vector<std::int64_t> to64(const std::vector<int>& v) { return {v.begin(), v.end()}; }
-std::vector<std::int64_t> to64(const std::vector<std::int32_t>& v, int) {
+template <class T>
+std::vector<std::int64_t> to64(const std::vector<T>& v, int) {
   return {v.begin(), v.end()};
 }
 
 template <class T>
 std::vector<T> narrow(const std::vector<std::int64_t>& v) {
+  return {v.begin(), v.end()};
+}
+
+/// Narrowing with a range check (the file stores int64; the body holds smaller integers).
+template <class T>
+std::vector<T> narrow_checked(const std::vector<std::int64_t>& v, const std::string& src,
+                              std::string_view key, std::string_view why) {
+  constexpr auto lo = static_cast<std::int64_t>(std::numeric_limits<T>::min()),
+                 hi = static_cast<std::int64_t>(std::numeric_limits<T>::max());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (v[i] < lo || v[i] > hi)
+      throw InputError("value out of range")
+          .source(src)
+          .key(fmt::format("{}[{}]", key, i))
+          .value(std::to_string(v[i]))
+          .expected(fmt::format("{} … {} ({})", lo, hi, why))
+          .fix(
+              "the file was not written by a compatible pdcg, or the body is beyond the limits "
+              "of docs/bodies.md");
   return {v.begin(), v.end()};
 }
 
@@ -134,8 +155,10 @@ void write_body(const Body& b, const std::filesystem::path& path) {
   w.write("families/offset", f.offset);
   w.write("families/neighbor", to64(f.neighbor, 0));
   w.write("families/shift", to64(f.shift, 0), {nb, 3});
-  w.write("families/xi", f.xi, {nb, 3});
-  w.write("families/reverse", f.reverse);
+  // ξ is derived from the positions (the Families do not hold it); written for readers of
+  // older pdcg versions and for tools, ignored on reading.
+  w.write("families/xi", atomistic::bond_vectors(f, b.x), {nb, 3});
+  w.write("families/reverse", to64(f.reverse, 0));
   if (!f.pair_factor.empty()) w.write("families/pair_factor", f.pair_factor);
   if (!f.bond_type.empty()) w.write("families/bond_type", to64(f.bond_type));
   const Eigen::Matrix3d h = f.h.transpose();  // row-major storage of H
@@ -173,7 +196,15 @@ void write_body(const Body& b, const std::filesystem::path& path) {
     w.attribute("/statistics", "order", static_cast<std::int64_t>(st.order));
     w.attribute("/statistics", "samples", st.samples);
     w.attribute("/statistics", "seed", static_cast<std::int64_t>(st.seed));
-    if (!st.covariance.empty()) w.write("statistics/covariance", st.covariance, {n, 3, 3});
+    if (!st.covariance.empty()) {  // the file keeps full 3×3 matrices (the body holds 6 values)
+      std::vector<double> full(9 * n);
+      for (std::size_t k = 0; k < n; ++k) {
+        const Eigen::Matrix3d C = st.covariance_of(k);
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c) full[9 * k + static_cast<std::size_t>(3 * a + c)] = C(a, c);
+      }
+      w.write("statistics/covariance", full, {n, 3, 3});
+    }
     if (!st.frames.empty()) {
       std::vector<double> all;
       all.reserve(st.frames.size() * 3 * n);
@@ -224,10 +255,9 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   b.kind = parse_body_kind(r.attribute_string("/", "kind"), src);
   b.dimension = static_cast<int>(r.attribute_int("/", "dimension"));
   b.epsilon = r.attribute_double("/", "epsilon");
-  for (auto item :
-       {"box/lo", "box/hi", "box/tilt", "box/periodic", "points/id", "points/type", "points/x",
-        "points/mass", "families/offset", "families/neighbor", "families/shift", "families/xi",
-        "families/reverse", "families/h", "potential/lines"})
+  for (auto item : {"box/lo", "box/hi", "box/tilt", "box/periodic", "points/id", "points/type",
+                    "points/x", "points/mass", "families/offset", "families/neighbor",
+                    "families/shift", "families/reverse", "families/h", "potential/lines"})
     need(item);
   const auto lo = r.read_double("box/lo"), hi = r.read_double("box/hi"),
              tilt = r.read_double("box/tilt");
@@ -254,9 +284,10 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   auto& f = b.families;
   f.offset = r.read_int("families/offset");
   f.neighbor = narrow<std::int32_t>(r.read_int("families/neighbor"));
-  f.shift = narrow<std::int32_t>(r.read_int("families/shift"));
-  f.xi = r.read_double("families/xi");
-  f.reverse = r.read_int("families/reverse");
+  f.shift = narrow_checked<std::int8_t>(r.read_int("families/shift"), src, "families/shift",
+                                        "image shifts are held in one byte");
+  f.reverse = narrow_checked<std::int32_t>(r.read_int("families/reverse"), src, "families/reverse",
+                                           "bond indices are held in 32 bits");
   if (r.exists("families/pair_factor")) f.pair_factor = r.read_double("families/pair_factor");
   if (r.exists("families/bond_type")) f.bond_type = narrow<int>(r.read_int("families/bond_type"));
   const auto hv = r.read_double("families/h");
@@ -265,7 +296,7 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   b.base_horizon = r.attribute_double("/families", "base_horizon");
   const std::size_t nb = f.neighbor.size();
   if (f.offset.size() != n + 1 || static_cast<std::size_t>(f.offset.back()) != nb ||
-      f.shift.size() != 3 * nb || f.xi.size() != 3 * nb || f.reverse.size() != nb)
+      f.shift.size() != 3 * nb || f.reverse.size() != nb)
     throw InputError("families are inconsistent with the points")
         .source(src)
         .key("families")
@@ -310,7 +341,27 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
     st.order = static_cast<int>(r.attribute_int("/statistics", "order"));
     st.samples = r.attribute_int("/statistics", "samples");
     st.seed = static_cast<std::uint64_t>(r.attribute_int("/statistics", "seed"));
-    if (r.exists("statistics/covariance")) st.covariance = r.read_double("statistics/covariance");
+    if (r.exists("statistics/covariance")) {
+      const auto full = r.read_double("statistics/covariance");
+      if (full.size() != 9 * n)
+        throw InputError("covariances do not match the points")
+            .source(src)
+            .key("statistics/covariance")
+            .value(fmt::format("{} values", full.size()))
+            .expected(fmt::format("{}×3×3 (one 3×3 matrix per point)", n));
+      st.covariance.assign(6 * n, 0.0);
+      for (std::size_t k = 0; k < n; ++k) {
+        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> C(full.data() + 9 * k);
+        // pdcg writes exactly symmetric matrices (v vᵀ sums); allow round-off of other writers
+        if ((C - C.transpose()).cwiseAbs().maxCoeff() > 1e-12 * C.cwiseAbs().maxCoeff())
+          throw InputError("covariance is not symmetric")
+              .source(src)
+              .key(fmt::format("statistics/covariance[{}]", k))
+              .expected("Σ_k = Σ_kᵀ")
+              .fix("write symmetric covariances");
+        st.set_covariance(k, C);
+      }
+    }
     if (r.exists("statistics/frames")) {
       const auto all = r.read_double("statistics/frames");
       for (std::size_t o = 0; o + 3 * n <= all.size(); o += 3 * n)

@@ -42,10 +42,10 @@ Statistics isotropic_gaussian(const Body& body, double width) {
         .expected("σ ≥ 0 (a length, e.g. √(k_B T / k) for a harmonic well)");
   Statistics s;
   s.form = Statistics::Form::gaussian;
-  s.covariance.assign(9 * body.size(), 0.0);
-  for (std::size_t i = 0; i < body.size(); ++i)
-    for (int a = 0; a < body.dimension; ++a)
-      s.covariance[9 * i + static_cast<std::size_t>(4 * a)] = width * width;
+  s.covariance.assign(6 * body.size(), 0.0);
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < body.dimension; ++a) C(a, a) = width * width;
+  for (std::size_t i = 0; i < body.size(); ++i) s.set_covariance(i, C);
   return s;
 }
 
@@ -83,23 +83,9 @@ std::vector<std::vector<double>> displacements(const Body& body,
   return out;
 }
 
-/// Moves the body's reference positions to new means and recomputes the reference bonds
-/// ξ_b = x_j − x_k + H n_b (family topology unchanged).
-void move_means(Body& body, const std::vector<double>& mean) {
-  body.x = mean;
-  auto& fam = body.families;
-  for (std::size_t i = 0; i < fam.points(); ++i)
-    for (auto b = static_cast<std::size_t>(fam.offset[i]);
-         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
-      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
-      const Eigen::Vector3d n(fam.shift[3 * b], fam.shift[3 * b + 1], fam.shift[3 * b + 2]);
-      const Eigen::Vector3d xi =
-          Eigen::Vector3d(mean[3 * j] - mean[3 * i], mean[3 * j + 1] - mean[3 * i + 1],
-                          mean[3 * j + 2] - mean[3 * i + 2]) +
-          fam.h * n;
-      for (int k = 0; k < 3; ++k) fam.xi[3 * b + static_cast<std::size_t>(k)] = xi[k];
-    }
-}
+/// Moves the body's reference positions to new means (family topology unchanged; the reference
+/// bonds ξ_b = x_j − x_k + H n_b follow, as they are derived from the positions).
+void move_means(Body& body, const std::vector<double>& mean) { body.x = mean; }
 
 }  // namespace
 
@@ -110,7 +96,7 @@ Statistics gaussian_from_frames(Body& body, std::span<const atomistic::Atoms> fr
   std::vector<double> mean(3 * n, 0.0);
   Statistics s;
   s.form = Statistics::Form::gaussian;
-  s.covariance.assign(9 * n, 0.0);
+  s.covariance.assign(6 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Vector3d m = Eigen::Vector3d::Zero();
     for (const auto& f : d) m += Eigen::Vector3d(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
@@ -121,12 +107,10 @@ Statistics gaussian_from_frames(Body& body, std::span<const atomistic::Atoms> fr
       C += v * v.transpose();
     }
     C /= S;  // moments of the empirical distribution (same second moment as the empirical form)
-    for (int a = 0; a < 3; ++a) {
+    for (int a = 0; a < 3; ++a)
       mean[3 * i + static_cast<std::size_t>(a)] =
           body.x[3 * i + static_cast<std::size_t>(a)] + m[a];
-      for (int b = 0; b < 3; ++b)
-        s.covariance[9 * i + static_cast<std::size_t>(3 * a + b)] = C(a, b);
-    }
+    s.set_covariance(i, C);
   }
   move_means(body, mean);
   return s;
@@ -152,11 +136,12 @@ Statistics empirical_from_frames(Body& body, std::span<const atomistic::Atoms> f
 
 void make_statistical(Body& body, Statistics s) {
   if (s.form == Statistics::Form::gaussian) {
-    if (s.covariance.size() != 9 * body.size())
+    if (s.covariance.size() != 6 * body.size())
       throw InputError("covariances do not match the body")
           .key("covariance")
-          .value(std::to_string(s.covariance.size() / 9))
-          .expected(std::to_string(body.size()) + " 3×3 matrices");
+          .value(std::to_string(s.covariance.size() / 6))
+          .expected(std::to_string(body.size()) +
+                    " symmetric 3×3 matrices (6 values each: the upper triangle)");
     if (s.method == Statistics::Method::cubature) {
       if (s.order < 1 || s.order > 64)
         throw InputError("Gauss–Hermite order out of range")
@@ -213,12 +198,7 @@ Eigen::Matrix3d factor_of(const Eigen::Matrix3d& C, int d) {
   return A;
 }
 
-Eigen::Matrix3d cov_of(const Statistics& s, std::size_t i) {
-  Eigen::Matrix3d C;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) C(a, b) = s.covariance[9 * i + static_cast<std::size_t>(3 * a + b)];
-  return C;
-}
+Eigen::Matrix3d cov_of(const Statistics& s, std::size_t i) { return s.covariance_of(i); }
 
 /// Shared sampling/empirical accumulation: evaluates the whole body at sample positions ys and
 /// adds weight·ψ_k, weight·t_b. One fused parallel loop over atoms (bonds of atom k are built
@@ -234,24 +214,26 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
     const auto i = static_cast<std::size_t>(ii);
     const auto b0 = static_cast<std::size_t>(fam.offset[i]),
                b1 = static_cast<std::size_t>(fam.offset[i + 1]);
+    // per-thread family buffers, grown once per thread to the largest family
+    thread_local std::vector<double> yb, tb;
+    if (yb.size() < 3 * (b1 - b0)) {
+      yb.resize(3 * (b1 - b0));
+      tb.resize(3 * (b1 - b0));
+    }
     for (std::size_t b = b0; b < b1; ++b) {
-      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
-      const double s0 = fam.shift[3 * b], s1 = fam.shift[3 * b + 1], s2 = fam.shift[3 * b + 2];
-      for (int k = 0; k < 3; ++k)
-        sc.bonds[3 * b + static_cast<std::size_t>(k)] =
-            ys[3 * j + static_cast<std::size_t>(k)] - ys[3 * i + static_cast<std::size_t>(k)] +
-            h_y(k, 0) * s0 + h_y(k, 1) * s1 + h_y(k, 2) * s2;
+      const Eigen::Vector3d v = atomistic::bond_vector(fam, ys, h_y, i, b);
+      for (int k = 0; k < 3; ++k) yb[3 * (b - b0) + static_cast<std::size_t>(k)] = v[k];
     }
     atomistic::FamilyState f;
     f.type = body.type[i];
     f.size = static_cast<std::int64_t>(b1 - b0);
     f.neighbor_type = sc.ntype.data() + b0;
-    f.bond = sc.bonds.data() + 3 * b0;
+    f.bond = yb.data();
     f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
     f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
-    const double psi = pot.force_state(f, sc.t.data() + 3 * b0);
+    const double psi = pot.force_state(f, tb.data());
     psi_out[i] += weight * psi;
-    for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * sc.t[c];
+    for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * tb[c - 3 * b0];
     total += weight * psi;
   }
   return total;
@@ -261,8 +243,7 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
 
 double statistical_force_states(const Body& body, const Statistics& s, std::span<const double> y,
                                 const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G,
-                                std::span<const double> mean_bonds, std::span<double> psi_out,
-                                std::span<double> t_out, Scratch& sc) {
+                                std::span<double> psi_out, std::span<double> t_out, Scratch& sc) {
   const auto& fam = body.families;
   const std::size_t n = body.size(), nb = fam.bonds();
   const int d = body.dimension;
@@ -273,12 +254,7 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
   sc.ntype.resize(nb);
   for (std::size_t b = 0; b < nb; ++b)
     sc.ntype[b] = body.type[static_cast<std::size_t>(fam.neighbor[b])];
-  if (per_sample) {
-    sc.ys.resize(3 * n);
-    sc.bonds.resize(3 * nb);
-    sc.t.resize(3 * nb);
-    sc.psi.resize(n);
-  }
+  if (per_sample) sc.ys.resize(3 * n);
   if (s.form == Statistics::Form::empirical) {
     // y^f = y + G (x^f − x̄): each frame's fluctuation carried by the deformation.
     const double w = 1.0 / static_cast<double>(s.frames.size());
@@ -362,11 +338,13 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
       f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b;
       double yb[3], tb[3];
       f.bond = yb;
+      const Eigen::Vector3d mean_bond =
+          atomistic::bond_vector(fam, y, h_y, i, b);  // Y_b of the means
       double tx = 0, ty = 0, tz = 0, e = 0;
       for (std::size_t c = 0; c < count; ++c) {
         const Eigen::Vector3d z(sc.nodes[3 * c], sc.nodes[3 * c + 1], sc.nodes[3 * c + 2]);
         const Eigen::Vector3d dz = B * z;
-        for (int k = 0; k < 3; ++k) yb[k] = mean_bonds[3 * b + static_cast<std::size_t>(k)] + dz[k];
+        for (int k = 0; k < 3; ++k) yb[k] = mean_bond[k] + dz[k];
         const double w = sc.weights[c];
         e += w * pot.force_state(f, tb);
         tx += w * tb[0];

@@ -14,17 +14,16 @@ struct Scratch {
   std::vector<double> nodes;    ///< tensor-product Gauss–Hermite nodes, dim per node
   std::vector<double> weights;  ///< their weights (sum 1)
   std::vector<double> factor;  ///< 9 per atom: 3×d factor A_k with A_k A_kᵀ = Σ_k (col-major 3×3)
-  std::vector<double> ys, bonds, t, psi;
+  std::vector<double> ys;      ///< sample positions (bond vectors and t: per-thread, per family)
   std::vector<int> ntype;
 };
 
 /// Fills psi_out (N) and t_out (3 per bond) with expected values and returns Σ_k E[ψ_k].
 /// y, h_y: mean deformed positions and box; G maps the reference fluctuations to the deformed
-/// ones (identity for given positions, F for a homogeneous deformation). mean_bonds holds the
-/// deformed bonds of the mean positions (already computed).
+/// ones (identity for given positions, F for a homogeneous deformation).
 double statistical_force_states(const Body& body, const Statistics& s, std::span<const double> y,
                                 const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G,
-                                std::span<const double> mean_bonds, std::span<double> psi_out,
-                                std::span<double> t_out, Scratch& scratch);
+                                std::span<double> psi_out, std::span<double> t_out,
+                                Scratch& scratch);
 
 }  // namespace pdcg::body::detail

@@ -285,7 +285,8 @@ int run_model(const Options& o) {
       const auto g = pdcg::dispersion::detect_lattice(body, k);
       double proj = std::numeric_limits<double>::infinity();
       for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i) {
-        const Eigen::Vector3d xi(f.xi[3 * i], f.xi[3 * i + 1], f.xi[3 * i + 2]);
+        const Eigen::Vector3d xi =
+            pdcg::atomistic::bond_vector(f, body.x, k, static_cast<std::size_t>(i));
         if (xi.norm() > 1.01 * g.nearest) continue;
         const double p = std::abs(xi.dot(dir));
         if (p > 1e-9 * g.nearest) proj = std::min(proj, p);

@@ -23,9 +23,7 @@ double lattice_spacing(const Body& b) {
     double m = INFINITY;
     for (auto k = static_cast<std::size_t>(fam.offset[i]);
          k < static_cast<std::size_t>(fam.offset[i + 1]); ++k)
-      m = std::min(m,
-                   std::sqrt(fam.xi[3 * k] * fam.xi[3 * k] + fam.xi[3 * k + 1] * fam.xi[3 * k + 1] +
-                             fam.xi[3 * k + 2] * fam.xi[3 * k + 2]));
+      m = std::min(m, atomistic::bond_vector(fam, b.x, i, k).norm());
     if (std::isfinite(m)) nn.push_back(m);
   }
   if (nn.empty()) return 0.0;

@@ -41,7 +41,6 @@ body::Body rescale(const body::Body& in, double eps) {
   b.box.xz *= eps;
   b.box.yz *= eps;
   for (auto& m : b.mass) m *= md;
-  for (auto& v : b.families.xi) v *= eps;
   b.families.h *= eps;
   b.epsilon = in.epsilon * eps;
   if (b.base_potential) b.potential = body::rescaled_potential(b.base_potential, b.epsilon, d);

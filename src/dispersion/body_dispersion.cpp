@@ -15,13 +15,13 @@ LatticeGuess detect_lattice(const body::Body& b, std::size_t k) {
   const auto& f = b.families;
   double dmin = std::numeric_limits<double>::infinity();
   for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i) {
-    const double* xi = f.xi.data() + 3 * static_cast<std::size_t>(i);
+    const Eigen::Vector3d xi = atomistic::bond_vector(f, b.x, k, static_cast<std::size_t>(i));
     dmin = std::min(dmin, std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]));
   }
   int z = 0;
   bool planar = true, linear = true;
   for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i) {
-    const double* xi = f.xi.data() + 3 * static_cast<std::size_t>(i);
+    const Eigen::Vector3d xi = atomistic::bond_vector(f, b.x, k, static_cast<std::size_t>(i));
     const double r = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
     if (r > 1.01 * dmin) continue;
     ++z;
@@ -113,7 +113,7 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
     representative_ = k;
     description_ = fmt::format("atom id {} ({} body)", b.id[k], body::to_string(b.kind));
   }
-  lin_ = std::make_unique<LinearisedFamilies>(*b.potential, b.families, b.type, atoms);
+  lin_ = std::make_unique<LinearisedFamilies>(*b.potential, b.families, b.x, b.type, atoms);
 }
 
 Eigen::VectorXd BodyDispersion::omega(const Eigen::Vector3d& kappa) const {

@@ -52,9 +52,9 @@ KappaGrid point_omega_grid(const LinearisedFamilies& lin,
     const auto K = lin.tangent(kk);
     if (K.empty()) throw Error("point_omega_grid: atom was not linearised");
     const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
-    const auto b0 = static_cast<std::size_t>(fam.offset[kk]);
+    const double* xis = lin.bonds(kk).data();
     auto xi = [&](std::int64_t b) {
-      const double* p = fam.xi.data() + 3 * (b0 + static_cast<std::size_t>(b));
+      const double* p = xis + 3 * b;
       return Eigen::Vector3d(p[0], p[1], p[2]);
     };
     for (std::int64_t b = 0; b < n; ++b)

@@ -13,11 +13,17 @@ namespace pdcg::dispersion {
 
 using cd = std::complex<double>;
 
-LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential, const atomistic::Families& fam,
-                                       std::span<const int> type, std::span<const std::int32_t> atoms)
+LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential,
+                                       const atomistic::Families& fam, std::span<const double> x,
+                                       std::span<const int> type,
+                                       std::span<const std::int32_t> atoms)
     : families_(&fam) {
   const std::size_t n = fam.points();
+  if (x.size() != 3 * n)
+    throw Error("LinearisedFamilies: positions do not match the families (" +
+                std::to_string(x.size() / 3) + " positions, " + std::to_string(n) + " points)");
   start_.assign(n, -1);
+  bond_start_.assign(n, -1);
   std::vector<std::int32_t> list(atoms.begin(), atoms.end());
   if (list.empty())
     for (std::size_t k = 0; k < n; ++k) list.push_back(static_cast<std::int32_t>(k));
@@ -28,6 +34,9 @@ LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential, co
     start_[kk] = total;
     const std::int64_t nb = fam.offset[kk + 1] - fam.offset[kk];
     total += nb * nb * 9;
+    bond_start_[kk] = static_cast<std::int64_t>(xi_.size());
+    xi_.resize(xi_.size() + static_cast<std::size_t>(3 * nb));
+    atomistic::family_bond_vectors(fam, x, kk, xi_.data() + bond_start_[kk]);
   }
   k_.assign(static_cast<std::size_t>(total), 0.0);
   std::vector<int> ntype(fam.bonds());
@@ -42,7 +51,7 @@ LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential, co
     f.type = type[k];
     f.size = fam.offset[k + 1] - fam.offset[k];
     f.neighbor_type = ntype.data() + b0;
-    f.bond = fam.xi.data() + 3 * b0;
+    f.bond = xi_.data() + bond_start_[k];
     f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
     f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
     potential.force_state_tangent(f, k_.data() + start_[k], work.data());
@@ -53,6 +62,12 @@ std::span<const double> LinearisedFamilies::tangent(std::size_t k) const {
   if (start_[k] < 0) return {};
   const std::int64_t nb = families_->offset[k + 1] - families_->offset[k];
   return {k_.data() + start_[k], static_cast<std::size_t>(nb * nb * 9)};
+}
+
+std::span<const double> LinearisedFamilies::bonds(std::size_t k) const {
+  if (bond_start_[k] < 0) return {};
+  const std::int64_t nb = families_->offset[k + 1] - families_->offset[k];
+  return {xi_.data() + bond_start_[k], static_cast<std::size_t>(3 * nb)};
 }
 
 namespace {
@@ -79,10 +94,10 @@ Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::
     const auto K = lin.tangent(kk);
     if (K.empty()) throw Error("point_omega: atom was not linearised");
     const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
-    const auto b0 = static_cast<std::size_t>(fam.offset[kk]);
+    const double* xis = lin.bonds(kk).data();
     std::vector<cd> phase(static_cast<std::size_t>(n));
     for (std::int64_t b = 0; b < n; ++b) {
-      const double* xi = fam.xi.data() + 3 * (b0 + static_cast<std::size_t>(b));
+      const double* xi = xis + 3 * b;
       const double arg = kappa[0] * xi[0] + kappa[1] * xi[1] + kappa[2] * xi[2];
       phase[static_cast<std::size_t>(b)] = cd(std::cos(arg) - 1.0, std::sin(arg));
     }
@@ -115,16 +130,17 @@ Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double
     if (K.empty()) throw Error("cell_omega: every atom must be linearised");
     const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
     const auto b0 = static_cast<std::size_t>(fam.offset[kk]);
+    const double* xis = lin.bonds(kk).data();
     for (std::int64_t b = 0; b < n; ++b) {
       const std::size_t bb = b0 + static_cast<std::size_t>(b);
-      const double* xb = fam.xi.data() + 3 * bb;
+      const double* xb = xis + 3 * b;
       const cd eb = std::polar(1.0, kappa[0] * xb[0] + kappa[1] * xb[1] + kappa[2] * xb[2]);
       const Eigen::Index jb = fam.neighbor[bb];
       for (std::int64_t c = 0; c < n; ++c) {
         const Eigen::Matrix3cd Kbc = block(K, n, b, c).cast<cd>();
         if (Kbc.isZero(0.0)) continue;
         const std::size_t cc = b0 + static_cast<std::size_t>(c);
-        const double* xc = fam.xi.data() + 3 * cc;
+        const double* xc = xis + 3 * c;
         const cd ec = std::polar(1.0, kappa[0] * xc[0] + kappa[1] * xc[1] + kappa[2] * xc[2]);
         const Eigen::Index jc = fam.neighbor[cc];
         // B_b^H K B_c with B_b a = a_jb e_b − a_k

@@ -388,7 +388,7 @@ void VelocityVerlet::setup_half() {
       const auto ub = static_cast<size_t>(b);
       const auto j = static_cast<size_t>(fam.neighbor[ub]);
       if (!(j > k || (j == k && fam.reverse[ub] > b))) continue;  // the other half holds it
-      const int* img = fam.shift.data() + 3 * ub;
+      const int img[3] = {fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]};
       std::int32_t target = fam.neighbor[ub];
       if (img[0] != 0 || img[1] != 0 || img[2] != 0) {
         std::uint64_t key = static_cast<std::uint64_t>(j) << 32;

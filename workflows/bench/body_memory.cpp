@@ -71,10 +71,9 @@ int main(int argc, char** argv) {
   const auto& F = delta.families;
   std::printf(
       "arrays delta: id=%.0f type=%.0f x=%.0f mass=%.0f fam_offset=%.0f neighbor=%.0f shift=%.0f "
-      "xi=%.0f reverse=%.0f pair_factor=%.0f bond_type=%.0f (bytes by capacity)\n",
-      cap(delta.id), cap(delta.type), cap(delta.x), cap(delta.mass), cap(F.offset),
-      cap(F.neighbor), cap(F.shift), cap(F.xi), cap(F.reverse), cap(F.pair_factor),
-      cap(F.bond_type));
+      "reverse=%.0f pair_factor=%.0f bond_type=%.0f (bytes by capacity)\n",
+      cap(delta.id), cap(delta.type), cap(delta.x), cap(delta.mass), cap(F.offset), cap(F.neighbor),
+      cap(F.shift), cap(F.reverse), cap(F.pair_factor), cap(F.bond_type));
 
   l0 = live_bytes;
   {

@@ -8,6 +8,8 @@
 /// positions as given (wrapped or unwrapped): the reference bond is
 ///   ξ_b = x_j − x_k + H n_b,
 /// and in a deformed configuration y with box matrix H_y the bond is Y_b = y_j − y_k + H_y n_b.
+/// ξ_b is not stored (it is derivable from the positions, and would take 24 B per bond of the
+/// 8 B the topology needs): bond_vector / family_bond_vectors / bond_vectors compute it.
 /// reverse[b] is the bond (j → k) with shift −n_b, so f_k = Σ_{b∈k} (t_b − t_reverse[b]).
 #pragma once
 
@@ -25,9 +27,13 @@ namespace pdcg::atomistic {
 struct Families {
   std::vector<std::int64_t> offset;  ///< N+1; bonds of k are [offset[k], offset[k+1])
   std::vector<std::int32_t> neighbor;
-  std::vector<std::int32_t> shift;    ///< 3 per bond: image shift n_b
-  std::vector<double> xi;             ///< 3 per bond: reference bond vector ξ_b
-  std::vector<std::int64_t> reverse;  ///< index of the bond j → k
+  /// 3 per bond: image shift n_b, |n_b,i| ≤ 127 (build_families throws InputError beyond:
+  /// a periodic box edge shorter than 1/127 of the cutoff, or positions unwrapped by more
+  /// than 127 box lengths)
+  std::vector<std::int8_t> shift;
+  /// index of the bond j → k; int32: at most 2³¹ − 1 bonds in all (InputError beyond,
+  /// ≈ 4·10⁷ atoms at 54 bonds per atom)
+  std::vector<std::int32_t> reverse;
   std::vector<double> pair_factor;    ///< per bond, special_bonds factor; empty = all 1
   std::vector<int> bond_type;         ///< per bond, molecular bond type (0 = none); empty = none
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  ///< reference box matrix (periodic shifts)
@@ -35,6 +41,45 @@ struct Families {
   std::size_t points() const { return offset.empty() ? 0 : offset.size() - 1; }
   std::size_t bonds() const { return neighbor.size(); }
 };
+
+/// Y_b = y_j − y_k + H_y n_b of bond b of atom k (H_y: box matrix of y). With the reference
+/// positions and families.h this is ξ_b; the arithmetic (left to right, y_j − y_k first) is
+/// that of deformed_bonds, so the reference evaluation sees exactly these bonds.
+inline Eigen::Vector3d bond_vector(const Families& f, std::span<const double> y,
+                                   const Eigen::Matrix3d& h_y, std::size_t k, std::size_t b) {
+  const auto j = static_cast<std::size_t>(f.neighbor[b]);
+  const double s0 = f.shift[3 * b], s1 = f.shift[3 * b + 1], s2 = f.shift[3 * b + 2];
+  Eigen::Vector3d v;
+  for (int c = 0; c < 3; ++c) {
+    const auto cc = static_cast<std::size_t>(c);
+    v[c] = y[3 * j + cc] - y[3 * k + cc] + h_y(c, 0) * s0 + h_y(c, 1) * s1 + h_y(c, 2) * s2;
+  }
+  return v;
+}
+
+/// Reference bond ξ_b = x_j − x_k + H n_b (x: the 3N reference positions, H = f.h).
+inline Eigen::Vector3d bond_vector(const Families& f, std::span<const double> x, std::size_t k,
+                                   std::size_t b) {
+  return bond_vector(f, x, f.h, k, b);
+}
+
+/// ξ of every bond of atom k, in family order, into out (3 per bond; caller's scratch of at
+/// least 3·family size). Allocates nothing.
+inline void family_bond_vectors(const Families& f, std::span<const double> x, std::size_t k,
+                                double* out) {
+  const auto b0 = static_cast<std::size_t>(f.offset[k]),
+             b1 = static_cast<std::size_t>(f.offset[k + 1]);
+  for (std::size_t b = b0; b < b1; ++b) {
+    const Eigen::Vector3d v = bond_vector(f, x, f.h, k, b);
+    out[3 * (b - b0)] = v[0];
+    out[3 * (b - b0) + 1] = v[1];
+    out[3 * (b - b0) + 2] = v[2];
+  }
+}
+
+/// ξ of every bond (3 per bond) in a new array: for code outside hot loops that wants them all
+/// at once (the Families do not keep them).
+std::vector<double> bond_vectors(const Families& f, std::span<const double> x);
 
 struct FamilyOptions {
   double cutoff = 0.0;                  ///< bonds with |ξ| < cutoff
@@ -44,8 +89,9 @@ struct FamilyOptions {
 
 /// Builds the families of every atom with a cell list (O(N)); periodic directions of
 /// atoms.box contribute as many image shells as the cutoff needs (boxes smaller than the
-/// cutoff work). Families are sorted by (neighbour, shift). Throws InputError for a
-/// non-positive cutoff or a molecular bond naming an unknown atom id.
+/// cutoff work, down to an edge of 1/127 of the cutoff). Families are sorted by (neighbour,
+/// shift). Throws InputError for a non-positive cutoff, a molecular bond naming an unknown
+/// atom id, an image shift beyond ±127 box lengths or more than 2³¹ − 1 bonds.
 Families build_families(const Atoms& atoms, const FamilyOptions& options);
 
 /// Y_b = y_j − y_k + H_y n_b for every bond (y: 3N deformed positions in the same convention

@@ -50,12 +50,31 @@ struct Statistics {
   int order = 3;                ///< Gauss–Hermite points per dimension (cubature)
   std::int64_t samples = 1000;  ///< joint samples of all atom positions (sampling)
   std::uint64_t seed = 12345;   ///< random seed (sampling): results are reproducible
-  /// gaussian: per-atom covariance Σ_k, 9 per atom (row-major 3×3). The means are the
-  /// reference positions x_k of the body.
+  /// gaussian: per-atom covariance Σ_k (symmetric), 6 per atom: the upper triangle row by row
+  /// (Σxx, Σxy, Σxz, Σyy, Σyz, Σzz); covariance_of / set_covariance convert. The means are
+  /// the reference positions x_k of the body.
   std::vector<double> covariance;
   /// empirical: the frames, each 3N positions (same convention as Body::x: x_k + the frame's
   /// displacement of atom k), frames.size() = S.
   std::vector<std::vector<double>> frames;
+
+  /// Σ_k as a full 3×3 matrix.
+  Eigen::Matrix3d covariance_of(std::size_t k) const {
+    const double* c = covariance.data() + 6 * k;
+    Eigen::Matrix3d m;
+    m << c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5];
+    return m;
+  }
+  /// Stores the upper triangle of C as Σ_k (covariance must hold 6 per atom).
+  void set_covariance(std::size_t k, const Eigen::Matrix3d& C) {
+    double* c = covariance.data() + 6 * k;
+    c[0] = C(0, 0);
+    c[1] = C(0, 1);
+    c[2] = C(0, 2);
+    c[3] = C(1, 1);
+    c[4] = C(1, 2);
+    c[5] = C(2, 2);
+  }
 };
 
 /// Homogenisation layer (§2.3).
@@ -182,7 +201,7 @@ class Evaluator {
  private:
   Evaluation run(std::span<const double> y, const Eigen::Matrix3d& h_y, const Eigen::Matrix3d& G);
   const Body& body_;
-  std::vector<double> y_, bonds_, t_, psi_, f_;
+  std::vector<double> y_, t_, psi_, f_;       ///< no per-bond bond vectors: built per atom
   std::vector<int> ntype_;                    ///< partner type per bond
   std::unique_ptr<detail::Scratch> scratch_;  ///< statistical work arrays
 };

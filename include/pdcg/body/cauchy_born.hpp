@@ -86,6 +86,12 @@ class CauchyBorn {
   std::vector<std::int32_t> reps_;  ///< one atom per class
   std::vector<double> rep_weight_;  ///< Σ_{k ∈ class} w_k (w_k = Σ_p w_kp, or 1)
   std::int64_t nmax_ = 0;           ///< largest family
+  /// Reference bonds ξ of the representatives' families when there are few classes (≤ 64:
+  /// the solver's hot path evaluates them once per stencil; deriving ξ from the positions
+  /// there would cost ≈ 40 instructions per bond, +28 % per energy evaluation). CSR by slot
+  /// in reps_ (sorted ascending); empty otherwise (ξ is then derived per call).
+  std::vector<std::int64_t> rep_xi_offset_;
+  std::vector<double> rep_xi_;
   /// per point: (representative atom, Σ w_kp over the point's atoms of that class), CSR
   std::vector<std::int64_t> pt_offset_{0};
   std::vector<std::int32_t> pt_rep_;

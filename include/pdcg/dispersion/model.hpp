@@ -33,17 +33,23 @@ namespace pdcg::dispersion {
 /// Linearised families of a set of atoms, evaluated once at the reference bonds.
 class LinearisedFamilies {
  public:
-  /// atoms: indices into the families to linearise (all atoms if empty).
+  /// x: the 3N reference positions the families were built from; atoms: indices into the
+  /// families to linearise (all atoms if empty).
   LinearisedFamilies(const atomistic::Potential& potential, const atomistic::Families& families,
-                     std::span<const int> type, std::span<const std::int32_t> atoms = {});
+                     std::span<const double> x, std::span<const int> type,
+                     std::span<const std::int32_t> atoms = {});
   const atomistic::Families& families() const { return *families_; }
   /// K blocks of atom k (n_k² · 9 doubles), or an empty span if k was not linearised.
   std::span<const double> tangent(std::size_t k) const;
+  /// Reference bonds ξ of atom k's family (3 n_k doubles; empty if k was not linearised). Kept
+  /// for the linearised atoms only (3 n_k next to the 9 n_k² of K).
+  std::span<const double> bonds(std::size_t k) const;
 
  private:
   const atomistic::Families* families_;
   std::vector<std::int64_t> start_;  ///< per atom: start in k_ (−1 if absent)
-  std::vector<double> k_;
+  std::vector<std::int64_t> bond_start_;  ///< per atom: start in xi_ (−1 if absent)
+  std::vector<double> k_, xi_;
 };
 
 /// ω(κ) at one point made of weighted atoms (Bravais lattice assumption, see above).

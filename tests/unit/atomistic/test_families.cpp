@@ -84,16 +84,39 @@ void check(const Atoms& atoms, double rc) {
   const Springs pot(2.0, 0.9, rc);
   const Families fam = build_families(atoms, {rc});
   ASSERT_EQ(fam.points(), atoms.size());
-  // symmetry: reverse of reverse is identity, reverse bond is −ξ
-  for (std::size_t b = 0; b < fam.bonds(); ++b) {
-    const auto r = static_cast<std::size_t>(fam.reverse[b]);
-    ASSERT_EQ(static_cast<std::size_t>(fam.reverse[r]), b);
-    for (int k = 0; k < 3; ++k) ASSERT_NEAR(fam.xi[3 * b + k], -fam.xi[3 * r + k], 1e-12);
-  }
+  // ξ_b = x_j − x_k + H n_b (written out here with the box's own matrix), shorter than the
+  // cutoff; reverse of reverse is identity, the reverse bond is −ξ and goes back to k.
+  const Eigen::Matrix3d H = atoms.box.h();
+  std::vector<double> xi(3 * fam.bonds());
+  for (std::size_t k = 0; k < fam.points(); ++k)
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
+      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
+      const Eigen::Vector3d n(fam.shift[3 * b], fam.shift[3 * b + 1], fam.shift[3 * b + 2]);
+      const Eigen::Vector3d want =
+          Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * k], atoms.x[3 * j + 1] - atoms.x[3 * k + 1],
+                          atoms.x[3 * j + 2] - atoms.x[3 * k + 2]) +
+          H * n;
+      const Eigen::Vector3d got = bond_vector(fam, atoms.x, k, b);
+      // round-off of a sum of |x| ≲ 10 and |H n| ≲ 10: 1e-12 absolute
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(got[c], want[c], 1e-12);
+      ASSERT_LT(got.norm(), rc);
+      for (int c = 0; c < 3; ++c) xi[3 * b + static_cast<std::size_t>(c)] = got[c];
+      const auto r = static_cast<std::size_t>(fam.reverse[b]);
+      ASSERT_EQ(static_cast<std::size_t>(fam.reverse[r]), b);
+      ASSERT_EQ(static_cast<std::size_t>(fam.neighbor[r]), k);
+    }
+  for (std::size_t k = 0; k < fam.points(); ++k)
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
+      const auto r = static_cast<std::size_t>(fam.reverse[b]);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(xi[3 * b + c], -xi[3 * r + c], 1e-12);
+    }
+  EXPECT_EQ(bond_vectors(fam, atoms.x), xi);  // all at once: the same numbers
   std::vector<double> Y(3 * fam.bonds()), t(3 * fam.bonds()), psi(atoms.size()),
       f(3 * atoms.size());
   deformed_bonds(fam, atoms.x, fam.h, Y);
-  EXPECT_TRUE(pdcg::test::all_close(Y, fam.xi, {1e-12, 0}));  // identity deformation: Y = ξ
+  EXPECT_EQ(Y, xi);  // identity deformation: Y = ξ bit for bit (same arithmetic)
   const double U = force_states(pot, fam, atoms.type, Y, psi, t);
   pd_forces(fam, t, f);
   double Uref;
@@ -122,6 +145,21 @@ TEST(Families, TriclinicBoxSmallerThanCutoffMatchesBruteForce) {
   b.yz = 0.5;
   // cutoff larger than every box height: several images of the same atom in one family
   check(random_atoms(12, b, 2), 3.1);
+}
+
+TEST(Families, ImageShiftsBeyondOneByteAreAnInputError) {
+  // Shifts are stored as int8: a periodic edge of 1/200 of the cutoff needs 200 images.
+  Box b;
+  b.hi = {0.01, 5, 5};
+  b.periodic = {true, false, false};
+  const Atoms a = random_atoms(1, b, 4);
+  EXPECT_THROW(build_families(a, {2.0}), pdcg::InputError);
+  // 1/126 of the cutoff still fits: 126 images on each side, the last ones at shift ±126.
+  const Families f = build_families(a, {1.26 + 1e-9});
+  EXPECT_EQ(f.bonds(), 252u);
+  int widest = 0;
+  for (auto s : f.shift) widest = std::max(widest, std::abs(static_cast<int>(s)));
+  EXPECT_EQ(widest, 126);
 }
 
 TEST(Families, FreeClusterHasNoImages) {

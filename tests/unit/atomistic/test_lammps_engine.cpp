@@ -181,12 +181,12 @@ TEST(LammpsForceStates, TersoffPdForcesEqualLmpForces) {
   EXPECT_LT(pdcg::test::max_norm_relative_error(run.psi, ref.pe), 1e-12);
   // Bonds longer than r_c carry force states (three-body terms): the 2 r_c horizon is needed.
   double beyond = 0.0;
-  for (std::size_t b = 0; b < run.families.bonds(); ++b) {
-    const double* xi = &run.families.xi[3 * b];
-    if (std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]) > 3.2)
-      beyond = std::max(
-          beyond, std::abs(run.t[3 * b]) + std::abs(run.t[3 * b + 1]) + std::abs(run.t[3 * b + 2]));
-  }
+  for (std::size_t k = 0; k < run.families.points(); ++k)
+    for (auto b = static_cast<std::size_t>(run.families.offset[k]);
+         b < static_cast<std::size_t>(run.families.offset[k + 1]); ++b)
+      if (bond_vector(run.families, at.x, k, b).norm() > 3.2)
+        beyond = std::max(beyond, std::abs(run.t[3 * b]) + std::abs(run.t[3 * b + 1]) +
+                                      std::abs(run.t[3 * b + 2]));
   EXPECT_GT(beyond, 1e-3);
 }
 

@@ -27,6 +27,9 @@ TEST(ModelFile, RoundTripEvaluatesIdentically) {
   Statistics st = isotropic_gaussian(b, 0.03);
   st.method = Statistics::Method::sampling;
   st.samples = 7;
+  Eigen::Matrix3d C0;  // a full symmetric covariance for atom 0 (off-diagonal terms too)
+  C0 << 9e-4, 2e-4, -1e-4, 2e-4, 8e-4, 3e-4, -1e-4, 3e-4, 7e-4;
+  st.set_covariance(0, C0);
   make_statistical(b, st);
   const auto dir = std::filesystem::temp_directory_path() / "pdcg_test_model_file";
   std::filesystem::create_directories(dir);
@@ -42,6 +45,28 @@ TEST(ModelFile, RoundTripEvaluatesIdentically) {
   EXPECT_EQ(c.kind, BodyKind::statistical);
   EXPECT_EQ(c.id, b.id);
   EXPECT_EQ(c.families.neighbor, b.families.neighbor);
+  EXPECT_EQ(c.families.shift, b.families.shift);
+  EXPECT_EQ(c.families.reverse, b.families.reverse);
+  EXPECT_EQ(c.statistics->covariance, b.statistics->covariance);
+  EXPECT_EQ(c.statistics->covariance_of(0), C0);
+  {  // the file still holds ξ (derived from x, H, n) for older readers: x_j − x_k + H n
+    io::H5Reader r(path);
+    const auto xi = r.read_double("families/xi");
+    ASSERT_EQ(xi.size(), 3 * b.families.bonds());
+    const Eigen::Matrix3d H = b.box.h();
+    for (std::size_t k = 0; k < b.size(); ++k)
+      for (auto e = static_cast<std::size_t>(b.families.offset[k]);
+           e < static_cast<std::size_t>(b.families.offset[k + 1]); ++e) {
+        const auto j = static_cast<std::size_t>(b.families.neighbor[e]);
+        const Eigen::Vector3d n(b.families.shift[3 * e], b.families.shift[3 * e + 1],
+                                b.families.shift[3 * e + 2]);
+        for (int d = 0; d < 3; ++d) {
+          const auto dd = static_cast<std::size_t>(d);
+          // round-off of x_j − x_k + (H n)_d with |x|, |H n| ≲ 5: 1e-13 absolute
+          ASSERT_NEAR(xi[3 * e + dd], b.x[3 * j + dd] - b.x[3 * k + dd] + (H * n)[d], 1e-13);
+        }
+      }
+  }
   Evaluator e1(b), e2(c);
   const Eigen::Matrix3d F = Eigen::Vector3d(1.1, 0.9, 1.05).asDiagonal();
   const double U1 = e1.homogeneous(F).energy, U2 = e2.homogeneous(F).energy;

@@ -65,13 +65,13 @@ TEST(Statistical, HarmonicChainClosedForm) {
       make_delta_body(chain(n, a), pot, spec(), {.dimension = 1, .cutoff = 0.0, .source = "chain"});
   ASSERT_EQ(b.families.bonds(), 2u * n);
   Statistics s;
-  s.covariance.assign(9 * n, 0.0);
+  s.covariance.assign(6 * n, 0.0);
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(0.01, 0.06);
   std::vector<double> sigma(n);
   for (int i = 0; i < n; ++i) {
     sigma[i] = u(rng);
-    s.covariance[9 * i] = sigma[i] * sigma[i];
+    s.covariance[6 * i] = sigma[i] * sigma[i];  // Σxx (upper triangle, row by row)
   }
   for (int order : {2, 3, 6}) {
     s.order = order;
@@ -155,7 +155,7 @@ TEST(Statistical, EmpiricalIsTheFrameAverageAndGaussianFitMatchesMoments) {
     for (const auto& fr : frames) m += fr.x[3 * i] / 5.0;
     for (const auto& fr : frames) v += std::pow(fr.x[3 * i] - m, 2) / 5.0;
     EXPECT_NEAR(gb.x[3 * i], m, 1e-14);
-    EXPECT_NEAR(gs.covariance[9 * i], v, 1e-15);
+    EXPECT_NEAR(gs.covariance_of(static_cast<std::size_t>(i))(0, 0), v, 1e-15);
   }
   // cubature with a many-body potential is refused
   Statistics bad = gs;

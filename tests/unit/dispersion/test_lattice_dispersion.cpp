@@ -109,7 +109,7 @@ void check_lattice(const std::string& commands, int cells, double a, double mass
   ASSERT_GT(cells * a, 2 * potential->cutoff() * (potential->pairwise() ? 1 : 2));
   const Families fam = build_families(atoms, {potential->cutoff()});
   const std::int32_t atom0[] = {0};
-  const LinearisedFamilies lin(*potential, fam, atoms.type, atom0);
+  const LinearisedFamilies lin(*potential, fam, atoms.x, atoms.type, atom0);
   const std::vector<double> masses(atoms.size(), mass);
   const std::pair<std::int32_t, double> site[] = {{0, 1.0}};
   // the reference in the unit style's time units: ω² = D/(M·mvv2e)
@@ -190,7 +190,7 @@ TEST(LatticeDispersion, EmbeddedLammpsStyleByFiniteDifferencesMatchesClosedForm)
   }
   const Families fam = build_families(a, {potential->cutoff()});
   const std::int32_t atom0[] = {0};
-  const LinearisedFamilies lin(*potential, fam, a.type, atom0);
+  const LinearisedFamilies lin(*potential, fam, a.x, a.type, atom0);
   const std::vector<double> masses(a.size(), 1.0);
   const std::pair<std::int32_t, double> site[] = {{0, 1.0}};
   auto d1 = [](double r) { return 4 * (-12 * std::pow(r, -13) + 6 * std::pow(r, -7)); };

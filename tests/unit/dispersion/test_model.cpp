@@ -97,7 +97,7 @@ TEST(ModelDispersion, DeltaChainEqualsClosedForm) {
   const ChainSprings pot(1.0, {1.0}, true);
   const Families fam = build_families(a, {pot.cutoff()});
   ASSERT_EQ(fam.bonds(), 2u);
-  const LinearisedFamilies lin(pot, fam, a.type);
+  const LinearisedFamilies lin(pot, fam, a.x, a.type);
   const std::vector<double> mass{1.0};
   // issue 5: 0.958851 at κ = 1, 2 at κ = π (μ = M = h = 1); same formulas, round-off only
   EXPECT_NEAR(longitudinal(lin, mass, 1.0), 0.958851077208406, 1e-12);
@@ -111,7 +111,7 @@ TEST(ModelDispersion, NextNearestChainAndZoneEdgeStayFinite) {
   const Atoms a = chain(1, 1.0);
   const ChainSprings pot(1.0, {1.0, 0.25}, true);
   const Families fam = build_families(a, {pot.cutoff()});
-  const LinearisedFamilies lin(pot, fam, a.type);
+  const LinearisedFamilies lin(pot, fam, a.x, a.type);
   const std::vector<double> mass{1.0};
   const std::vector<double> mu{1.0, 0.25};
   for (double k = 0.05; k <= std::numbers::pi + 1e-9; k += 0.1) {
@@ -127,7 +127,7 @@ TEST(ModelDispersion, RescaledChainFollowsOmegaOfEpsKappaOverEps) {
     const Atoms a = chain(1, eps);
     const ChainSprings pot(eps, {1.0 / (eps * eps)}, true);
     const Families fam = build_families(a, {pot.cutoff()});
-    const LinearisedFamilies lin(pot, fam, a.type);
+    const LinearisedFamilies lin(pot, fam, a.x, a.type);
     const std::vector<double> mass{1.0};
     const std::vector<double> mu{1.0};
     auto w = [&](double k) { return chain_omega(k, 1.0, 1.0, mu); };
@@ -144,7 +144,7 @@ TEST(ModelDispersion, CellWithBasisFoldsTheChainBands) {
   const Atoms a = chain(2, 1.0);  // 2-atom cell: bands ω(κ) and ω(κ + π)
   const ChainSprings pot(1.0, {1.0, 0.25}, true);
   const Families fam = build_families(a, {pot.cutoff()});
-  const LinearisedFamilies lin(pot, fam, a.type);
+  const LinearisedFamilies lin(pot, fam, a.x, a.type);
   const std::vector<double> mass{1.0, 1.0};
   const std::vector<double> mu{1.0, 0.25};
   for (double k : {0.1, 0.7, 1.3}) {
@@ -163,7 +163,7 @@ TEST(ModelDispersion, FiniteDifferenceTangentMatchesAnalytic) {
   const Atoms a = chain(1, 1.0);
   const ChainSprings exact(1.0, {1.0, 0.25}, true), fd(1.0, {1.0, 0.25}, false);
   const Families fam = build_families(a, {exact.cutoff()});
-  const LinearisedFamilies le(exact, fam, a.type), lf(fd, fam, a.type);
+  const LinearisedFamilies le(exact, fam, a.x, a.type), lf(fd, fam, a.x, a.type);
   const std::vector<double> mass{1.0};
   // central differences, step 6e-6: error ≈ 1e-10 relative (see potential.hpp)
   for (double k : {0.3, 1.7, 3.1})
@@ -205,7 +205,7 @@ TEST(ModelDispersionGrid, ChainGridEqualsClosedForm) {
   const ChainSprings pot(1.0, {1.0, 0.25}, true);
   const Families fam = build_families(a, {pot.cutoff()});
   const std::int32_t atom0[] = {0};
-  const LinearisedFamilies lin(pot, fam, a.type, atom0);
+  const LinearisedFamilies lin(pot, fam, a.x, a.type, atom0);
   const std::vector<double> mass(32, 1.0);
   const std::pair<std::int32_t, double> site[] = {{0, 1.0}};
   const KappaGrid g = point_omega_grid(lin, site, mass, a.box);
@@ -241,7 +241,7 @@ TEST(ModelDispersionGrid, FccLennardJonesGridEqualsDirectSum) {
         }
   const Families fam = build_families(at, {pot->cutoff()});
   const std::int32_t atom0[] = {0};
-  const LinearisedFamilies lin(*pot, fam, at.type, atom0);
+  const LinearisedFamilies lin(*pot, fam, at.x, at.type, atom0);
   const std::vector<double> mass(at.size(), 1.0);
   const std::pair<std::int32_t, double> site[] = {{0, 1.0}};
   const KappaGrid g = point_omega_grid(lin, site, mass, at.box);
@@ -264,7 +264,7 @@ TEST(ModelDispersionGrid, FccLennardJonesGridEqualsDirectSum) {
   Atoms bad = at;
   bad.x[3] += 0.01;
   const Families fb = build_families(bad, {pot->cutoff()});
-  const LinearisedFamilies lb(*pot, fb, bad.type, atom0);
+  const LinearisedFamilies lb(*pot, fb, bad.x, bad.type, atom0);
   EXPECT_THROW(point_omega_grid(lb, site, mass, bad.box), InputError);
   Atoms free = at;
   free.box.periodic = {false, false, false};
