@@ -13,7 +13,7 @@
 #     GMRES, 3D 22³ ≈ 10⁴ points with UMFPACK, GMRES and matrix-free GMRES, GMRES on
 #     BIG_GMRES_3D and matrix-free GMRES on BIG_MF_3D)
 #   MF_3D="10 22 37" workflows/bench/solver_bench.sh            (only the matrix-free 3D rows
-#     when SIZES_2D="" SIZES_3D="" are also set; 37³ = 50 653 points: ≈ 9 GB peak)
+#     when SIZES_2D="" SIZES_3D="" are also set; 37³ = 50 653 points: 12.4 GB peak, ≈ 20 min)
 # Environment: SIZES_2D (points per edge, default "50 100 200"), SIZES_3D (default
 #   "8 10 14 18"), COMPARE_2D (default "100"), COMPARE_3D (default "10"): sizes at which
 #   CHOLMOD (energy), GMRES and BiCGSTAB+ILUT also run (COMPARE_SOLVERS, default
