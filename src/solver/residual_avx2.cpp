@@ -10,8 +10,9 @@
 //  3D gather, one member per vector: g = (G₀, G₁, G₂, ·) (a 4-wide load whose 4th lane is the
 //     next member's G₀, never used; the very last term of the array loads 3 doubles), row a
 //     of F += u_a g (u_a broadcast).
-//  3D scatter: f_m += col₀ G₀ + col₁ G₁ + col₂ G₂ (columns of w P, 4th lane 0), stored as
-//     128 + 64 bits (a 4-wide store would touch the next point's force).
+//  3D scatter: f_m += col₀ G₀ + col₁ G₁ + col₂ G₂ (columns of w P, 4th lane 0) into a force
+//     array padded to 4 doubles per point (one aligned 32-byte add; Model::residual_kernel
+//     owns the padded per-thread arrays and sums them into f).
 // Partial sums run in two independent chains (even/odd member pairs) to hide the FMA
 // latency: the summation order differs from the scalar sweep, results agree to round-off.
 //
@@ -163,9 +164,9 @@ PDCG_AVX2_INL void gather3(const int* idx, const double* grad, i64 r, i64 e, i64
   for (int c = 0; c < 3; ++c) row[c] = _mm256_add_pd(a[c], b[c]);
 }
 
+// f_m (padded to 4 doubles, 32-byte aligned) += (v₀, v₁, v₂, 0).
 PDCG_AVX2_INL void add3(double* fm, __m256d v) {
-  _mm_storeu_pd(fm, _mm_add_pd(_mm256_castpd256_pd128(v), _mm_loadu_pd(fm)));
-  _mm_store_sd(fm + 2, _mm_add_sd(_mm256_extractf128_pd(v, 1), _mm_load_sd(fm + 2)));
+  _mm256_store_pd(fm, _mm256_add_pd(v, _mm256_load_pd(fm)));
 }
 
 // (w P G^m, 0) = c0 G₀ + c1 G₁ + c2 G₂ for one member.
@@ -178,7 +179,7 @@ PDCG_AVX2_INL __m256d term3(const __m256d* c, const double* g) {
 // f_m += w P G^m for the terms [r, e) of one 3D stencil; c[J] = (wP0J, wP1J, wP2J, 0).
 PDCG_AVX2_INL void scatter3(const int* idx, const double* grad, i64 r, i64 e, double* f,
                             const __m256d* c) {
-  auto fp = [f](int m) { return f + 3 * static_cast<i64>(m); };
+  auto fp = [f](int m) { return f + 4 * static_cast<i64>(m); };
   for (; r + 4 <= e; r += 4) {
     const double* g = grad + 3 * r;
     const __m256d v0 = term3(c, g), v1 = term3(c, g + 3), v2 = term3(c, g + 6),

@@ -6,7 +6,9 @@
 #     (3D), m = 3.015, in BA family terms per second (minimum time over the in-process
 #     repetitions), achieved GFLOP/s and GB/s from the analytic counts of ba_roofline.cpp,
 #     and the fraction of the roofline bound min(peak, AI × bandwidth) reached;
-#  3. bytes per point and per term held by the Discretization, the Model and the tangent
+#  3. the same-process roofline: triad and residual alternating in one process (AVX2 sweep and
+#     the portable sweep as the peer), best of the rounds;
+#  4. bytes per point and per term held by the Discretization, the Model and the tangent
 #     (live heap bytes, counting malloc) against the data they must hold.
 # Writes $OUT/roofline.csv (first line: date, CPU, cores, memory, load) and prints the tables.
 #   workflows/bench/roofline.sh [OUT=build/bench]
@@ -14,7 +16,9 @@
 #   SIZES_3D (default "12 22 27" ≈ 1.7·10³, 10⁴, 2·10⁴), TANGENT_2D / TANGENT_3D (largest
 #   edge with a tangent run, default 316 / 12), BODY_CELLS (fcc cells per edge of the body
 #   memory run, default 12), THREADS (default "1 2"), REPS (residual
-#   repetitions, default 5), REPEAT (probe repetitions, default 3).
+#   repetitions, default 5), REPEAT (probe repetitions, default 3), ROOF_ROUNDS (rounds of the
+#   same-process triad + residual runs, AVX2 and portable sweep, one thread; 0 skips them;
+#   default 5).
 set -euo pipefail
 source "$(dirname "$0")/../lib/setup.sh"
 [[ -f "$PDCG_BUILD/CMakeCache.txt" ]] || cmake -S "$PDCG_ROOT" -B "$PDCG_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release
@@ -46,6 +50,21 @@ for dim in 2 3; do
     done
   done
 done
+# Same-process roofline (one thread): triad and residual alternate ROOF_ROUNDS times in one
+# process, for the AVX2 sweep and for the portable sweep (PDCG_SOLVER_SCALAR=1, the code
+# before the AVX2 kernel) as the peer in the same script.
+if [[ ${ROOF_ROUNDS:-5} -gt 0 ]]; then
+  for dim in 2 3; do
+    if [[ $dim == 2 ]]; then sizes=${SIZES_2D-100 316 632}; else sizes=${SIZES_3D-12 22 27}; fi
+    for n in $sizes; do
+      for path in avx2 portable; do
+        env $([[ $path == portable ]] && echo PDCG_SOLVER_SCALAR=1) OMP_NUM_THREADS=1 \
+          "$BIN" roof "$dim" "$n" "${ROOF_ROUNDS:-5}" "${REPS:-5}" | grep '^roof ' |
+          sed "s/^roof /roof path=$path load=$(cut -d' ' -f1 /proc/loadavg) /" | tee -a "$CSV" >&2
+      done
+    done
+  done
+fi
 /usr/bin/python3 - "$CSV" <<'PY'
 import sys
 lines = open(sys.argv[1]).read().splitlines()
@@ -78,6 +97,16 @@ for r in rows:
     print(f"| {r['dim']} | {int(r['points']):,} | {float(r['terms_per_point']):.0f} | {t} | {r['load']} | "
           f"{float(r['residual_s']):.4g} | {rate:.3g} | {float(r['residual_gflops']):.2f} | "
           f"{float(r['residual_gbs']):.2f} | {bound_terms:.3g} | {rate / bound_terms:.2f} (1/{bound_terms / rate:.1f}) | {tan} |")
+roof = [kv(l) for l in lines[1:] if l.startswith("roof ")]
+if roof:
+    print("\n| dim | points | sweep | load | best triad GB/s (same process) | residual terms/s (best) | "
+          "bound terms/s | fraction of bound | best fraction within a round |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|")
+    for r in roof:
+        print(f"| {r['dim']} | {int(r['points']):,} | {r['path']} | {r['load']} | {float(r['best_triad_gbs']):.1f} | "
+              f"{float(r['best_terms_per_s']):.3g} | {float(r['bound_terms_per_s']):.3g} | "
+              f"{float(r['fraction']):.2f} (1/{float(r['one_over']):.1f}) | "
+              f"{float(r['best_round_fraction']):.2f} (1/{1 / float(r['best_round_fraction']):.1f}) |")
 print("\nMemory (live heap bytes; 'min' = the data that must be held, see ba_roofline.cpp):\n")
 print("| dim | points | terms | discretization B/point | B/term | min B/term | ratio | model B/point | "
       "B/term | tangent (K + stencil P, A) B/point | K min B/point | ratio |")
