@@ -537,25 +537,33 @@ void VelocityVerlet::evaluate_eam() {
     }
     fold_ghosts(trho, 1);  // this thread's copy
 #pragma omp barrier
-    // pass 2: ρ̄ summed over the thread copies, F(ρ̄) and F'(ρ̄) (linear beyond ρ_max)
-#pragma omp for schedule(static)
-    for (std::int64_t k = 0; k < n; ++k) {
-      double r = rho[k];
-      if (used > 1) {
-        r = 0.0;
-        for (int th = 0; th < used; ++th)
-          r += thread_rho_[static_cast<size_t>(th)][static_cast<size_t>(k)];
-        rho[k] = r;
+    // pass 2: ρ̄ summed over the thread copies, F(ρ̄) and F'(ρ̄) (linear beyond ρ_max), and F'
+    // of the ghosts (LAMMPS's forward communication of fp): copied on one thread; with several,
+    // evaluated from the same sum of the copies in the same loop (the same value, one barrier
+    // fewer per step)
+    if (used == 1) {
+      for (std::int64_t k = 0; k < n; ++k) {
+        const atomistic::eam::Embedding emb =
+            atomistic::eam::embedding(frho[type[k]], rho[k], rdrho, nrho, rhomax);
+        fp[k] = emb.first;
+        energy += emb.value;
       }
-      const atomistic::eam::Embedding emb =
-          atomistic::eam::embedding(frho[type[k]], r, rdrho, nrho, rhomax);
-      fp[k] = emb.first;
-      energy += emb.value;
-    }
-    // F' of the ghosts (LAMMPS's forward communication of fp)
+      for (std::int64_t g = n; g < next; ++g) fp[g] = fp[ga[g - n]];
+    } else {
 #pragma omp for schedule(static)
-    for (std::int64_t g = n; g < next; ++g) {
-      fp[g] = fp[ga[g - n]];
+      for (std::int64_t k = 0; k < next; ++k) {
+        const std::int64_t a = k < n ? k : ga[k - n];
+        double r = 0.0;
+        for (int th = 0; th < used; ++th)
+          r += thread_rho_[static_cast<size_t>(th)][static_cast<size_t>(a)];
+        const atomistic::eam::Embedding emb =
+            atomistic::eam::embedding(frho[type[a]], r, rdrho, nrho, rhomax);
+        fp[k] = emb.first;
+        if (k < n) {
+          rho[k] = r;
+          energy += emb.value;
+        }
+      }
     }
     // pass 3: pair forces and energies
     if (rows) energy += detail::eam_forces_avx2(*rows, hf, k0, k1, y, fp, f);
@@ -605,7 +613,7 @@ void VelocityVerlet::evaluate_eam() {
     fold_ghosts(f, 3);  // this thread's copy
     if (used > 1) {
 #pragma omp barrier
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait  // the region's end is the barrier
       for (std::int64_t i = 0; i < 3 * n; ++i) {
         double s = 0.0;
         for (int th = 0; th < used; ++th)
@@ -681,7 +689,7 @@ void VelocityVerlet::evaluate_pairwise(bool with_energy) {
     // reduce the thread copies (each thread a slice of the dofs)
     if (used > 1) {
 #pragma omp barrier
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait  // the region's end is the barrier
       for (std::int64_t i = 0; i < 3 * n; ++i) {
         double s = 0.0;
         for (int th = 0; th < used; ++th)
