@@ -358,7 +358,6 @@ void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow*
 template <int D>
 void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
   constexpr int D2 = D * D, NP = detail::packed_size(D);
-  static constexpr auto at = detail::packed_table<D>();
   const Stencils& S = *energy_;
   const Stencils& Pst = body_->point_stencils();
   const std::size_t N = body_->size();
@@ -390,12 +389,7 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
         const int s = member_of_.index[q];
         const double* gk = grad + (S.offsets[s] + member_pos_[q]) * D;
         const double* A = Apk_.data() + static_cast<std::size_t>(s) * NP;
-        for (int a = 0; a < D; ++a)
-          for (int bL = 0; bL < D2; ++bL) {
-            double t = 0;
-            for (int J = 0; J < D; ++J) t += A[at[a * D + J][bL]] * gk[J];
-            B[a][bL] = t;
-          }
+        detail::contract_packed<D>(A, gk, B);
         const auto r0 = S.offsets[s], r1 = S.offsets[s + 1];
         for (auto r = r0; r < r1; ++r) {
           const double* gn = grad + r * D;

@@ -8,9 +8,9 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 
 #include "pdcg/solver/material.hpp"
@@ -25,15 +25,6 @@ constexpr int packed_size(int d) { return d * d * (d * d + 1) / 2; }
 constexpr int packed_at(int d2, int i, int j) {
   if (i > j) std::swap(i, j);
   return i * d2 - i * (i - 1) / 2 + (j - i);
-}
-
-/// table[i][j] = packed_at(D², i, j), for the unrolled loops of the row gather.
-template <int D>
-constexpr std::array<std::array<int, D * D>, D * D> packed_table() {
-  std::array<std::array<int, D * D>, D * D> t{};
-  for (int i = 0; i < D * D; ++i)
-    for (int j = 0; j < D * D; ++j) t[i][j] = packed_at(D * D, i, j);
-  return t;
 }
 
 /// Ac = w · ½(A + Aᵀ) packed (upper triangle, row-major) for dimension d. Returns the
@@ -51,6 +42,28 @@ inline double pack_tangent(int d, const Tangent& A, double w, double* Ac) {
       Ac[p] = w * 0.5 * (aij + aji);
     }
   return amax > 0 ? dmax / amax : 0.0;
+}
+
+/// B[a][b·D + L] = Σ_J A_aJbL g_J for a packed symmetric A (the row gather's contraction of
+/// a stencil tangent with G^k), unrolled at compile time: every packed position is a
+/// constant, so the packing costs no index arithmetic.
+template <int D, int I>
+[[gnu::always_inline]] inline double contract_entry(const double* A, const double* g) {
+  constexpr int D2 = D * D, a = I / D2, bL = I % D2;
+  double t = 0.0;
+  [&]<int... J>(std::integer_sequence<int, J...>) {
+    ((t += A[std::integral_constant<int, packed_at(D2, a * D + J, bL)>::value] * g[J]), ...);
+  }
+  (std::make_integer_sequence<int, D>{});
+  return t;
+}
+template <int D>
+[[gnu::always_inline]] inline void contract_packed(const double* A, const double* g,
+                                                   double (&B)[D][D * D]) {
+  [&]<int... I>(std::integer_sequence<int, I...>) {
+    ((B[I / (D * D)][I % (D * D)] = contract_entry<D, I>(A, g)), ...);
+  }
+  (std::make_integer_sequence<int, D * D * D>{});
 }
 
 /// Hyperelastic tangents are symmetric to round-off (≈ 1e-16 relative); 1e-8 leaves room
