@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "packed_tangent.hpp"
 #include "pdcg/core/error.hpp"
 #include "residual_avx2.hpp"
 
@@ -240,33 +241,6 @@ Mat3 Model::stencil_gradient(const Stencils& S, std::size_t s, const Eigen::Vect
   return d_ == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
 }
 
-bool Model::evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const {
-  const Stencils& S = *energy_;
-  const std::size_t ns = S.size();
-  const int d = d_, d2 = d * d, d4 = d2 * d2;
-  Ps_.resize(ns);
-  if (tangent) Ac_.resize(ns * static_cast<std::size_t>(d4));
-  std::atomic<bool> ok{true};
-#pragma omp parallel for schedule(static)
-  for (std::size_t s = 0; s < ns; ++s) {
-    const Mat3 F = d == 2 ? gradient_of<2>(S, s, u.data()) : gradient_of<3>(S, s, u.data());
-    if (!tangent) {
-      if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], nullptr)) ok = false;
-      continue;
-    }
-    Tangent A;
-    if (!material_->evaluate_at(S.center[s], F, nullptr, &Ps_[s], &A)) ok = false;
-    // Compact d²×d² copy (2D: 16 of the 81 entries), contiguous per stencil: the
-    // row gather reads it once per member row, so its size is the memory traffic.
-    double* c = Ac_.data() + s * static_cast<std::size_t>(d4);
-    for (int a = 0; a < d; ++a)
-      for (int J = 0; J < d; ++J)
-        for (int b = 0; b < d; ++b)
-          for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
-  }
-  return ok && evaluate_weak_rows(u, tangent);
-}
-
 bool Model::evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const {
   const std::size_t nw = weak_points_.size();
   Pbar_.resize(nw);
@@ -410,7 +384,7 @@ void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow*
 
 template <int D>
 void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
-  constexpr int D2 = D * D, D4 = D2 * D2;
+  constexpr int D2 = D * D, NP = detail::packed_size(D);
   const Stencils& S = *energy_;
   const Stencils& Pst = body_->point_stencils();
   const std::size_t N = body_->size();
@@ -418,9 +392,11 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
   const int* outer = K.outerIndexPtr();
   const double* grad = S.grad.data();
   const int* sidx = S.index.data();
-  // Row gather: row k of K is Σ_{S∋k} w_S Σ_{n∈S} (G_S^k)ᵀ A_S G_S^n, each stencil read
-  // once per member row; no atomics, deterministic. The per-thread slot array
-  // (slot[n] = position of n in row k's adjacency) is allocated at construction.
+  // Row gather: row k of K is Σ_{S∋k} w_S Σ_{n∈S} (G_S^k)ᵀ A_S G_S^n, each stencil's packed
+  // w_S A_S (Apk_, energy_force_and_tangents) read once per member row; no atomics,
+  // deterministic. The per-thread slot array (slot[n] = position of n in row k's
+  // adjacency) is allocated with the index. f holds the energy part on entry (scattered by
+  // the stencil sweep); the rows add the weak-form correction.
 #pragma omp parallel
   {
     int* slot = slot_[static_cast<std::size_t>(thread_id())].data();
@@ -435,24 +411,12 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
         rows[a] = vals + outer[D * k + a];
         std::fill(rows[a], rows[a] + row_len, 0.0);
       }
-      double fk[D] = {};
       double B[D][D2];  // B[a][b*D+L] = w Σ_J A_aJbL G^k_J
       for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q) {
         const int s = member_of_.index[q];
-        const double w = S.weight[s];
         const double* gk = grad + (S.offsets[s] + member_pos_[q]) * D;
-        const Mat3& P = Ps_[s];
-        const double* A = Ac_.data() + static_cast<std::size_t>(s) * D4;
-        for (int a = 0; a < D; ++a) {
-          double v = 0;
-          for (int J = 0; J < D; ++J) v += P(a, J) * gk[J];
-          fk[a] += w * v;
-          for (int bL = 0; bL < D2; ++bL) {
-            double t = 0;
-            for (int J = 0; J < D; ++J) t += A[(a * D + J) * D2 + bL] * gk[J];
-            B[a][bL] = w * t;
-          }
-        }
+        const double* A = Apk_.data() + static_cast<std::size_t>(s) * NP;
+        detail::contract_packed<D>(A, gk, B);
         const auto r0 = S.offsets[s], r1 = S.offsets[s + 1];
         for (auto r = r0; r < r1; ++r) {
           const double* gn = grad + r * D;
@@ -465,7 +429,6 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
             }
         }
       }
-      for (int a = 0; a < D; ++a) f[D * k + a] = fk[a];
       if (const int w = weak_id_[k]; w >= 0) {
         const Vec3& e = defect_[k];
         const Tangent& A = Abar_[w];
@@ -497,10 +460,11 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
 bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f,
                                        SparseRow& K) const {
   build_index();
-  if (!evaluate_stencils(u, true)) return false;
+  if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
+  f.setZero();
+  if (!energy_force_and_tangents(u, f) || !evaluate_weak_rows(u, true)) return false;
   if (K.rows() != static_cast<Eigen::Index>(dofs()) || K.nonZeros() != pattern_nnz_)
     fill_pattern(K);
-  if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
   // More threads than at construction (omp_set_num_threads raised): one slot array each.
   if (slot_.size() < static_cast<std::size_t>(max_threads()))
     slot_.resize(static_cast<std::size_t>(max_threads()), std::vector<int>(body_->size(), -1));
@@ -515,36 +479,40 @@ bool Model::internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
 bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int>& points,
                                  const std::vector<char>& skip_column,
                                  std::vector<double>& sums) const {
-  // The A of every stencil these rows meet, once (into the scratch of the tangent
-  // assembly), then the rows gathered as in assemble_rows.
+  // The packed w_S A_S of every stencil these rows meet, once (into a local array, a few
+  // stencils per row), then the rows gathered as in assemble_rows.
   build_index();
   const Stencils& S = *energy_;
   const Stencils& Pst = body_->point_stencils();
-  const int d = d_, d2 = d * d, d4 = d2 * d2;
-  std::vector<char> mark(S.size(), 0);
+  const int d = d_, d2 = d * d, np = detail::packed_size(d);
+  std::vector<int> where(S.size(), -1);  // stencil -> its position in need
   std::vector<int> need;
   for (int k : points)
     for (auto q = member_of_.offsets[k]; q < member_of_.offsets[k + 1]; ++q)
-      if (!mark[member_of_.index[q]]) {
-        mark[member_of_.index[q]] = 1;
+      if (where[member_of_.index[q]] < 0) {
+        where[member_of_.index[q]] = static_cast<int>(need.size());
         need.push_back(member_of_.index[q]);
       }
-  if (Ac_.size() < S.size() * static_cast<std::size_t>(d4)) Ac_.resize(S.size() * d4);
+  std::vector<double> Ap(need.size() * static_cast<std::size_t>(np));
   if (Abar_.size() < weak_points_.size()) Abar_.resize(weak_points_.size());
-  std::atomic<bool> ok{true};
-#pragma omp parallel for schedule(static)
+  bool ok = true;
+  double asym = 0.0;
+#pragma omp parallel for schedule(static) reduction(&& : ok) reduction(max : asym)
   for (std::size_t i = 0; i < need.size(); ++i) {
     const int s = need[i];
     Tangent A;
     Mat3 P;
-    if (!material_->evaluate_at(S.center[s], stencil_gradient(S, s, u), nullptr, &P, &A))
+    if (!material_->evaluate_at(S.center[s], stencil_gradient(S, s, u), nullptr, &P, &A)) {
       ok = false;
-    double* c = Ac_.data() + static_cast<std::size_t>(s) * d4;
-    for (int a = 0; a < d; ++a)
-      for (int J = 0; J < d; ++J)
-        for (int b = 0; b < d; ++b)
-          for (int L = 0; L < d; ++L) c[(a * d + J) * d2 + b * d + L] = A(flat(a, J), flat(b, L));
+      continue;
+    }
+    asym = std::max(asym, detail::pack_tangent(d, A, S.weight[s], Ap.data() + i * np));
   }
+  if (asym > detail::kMaxAsymmetry)
+    throw NumericalError(
+        "tangent row sums: the material tangent lacks major symmetry (max "
+        "|A_aJbL − A_bLaJ| / max |A| = " +
+        std::to_string(asym) + "); a hyperelastic material is needed");
   for (int k : points)
     if (const int w = weak_id_[k]; w >= 0) {
       Mat3 P;
@@ -570,12 +538,12 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
         const double w = S.weight[s];
         if (!(w != 0.0)) continue;
         const double* gk = S.grad.data() + (S.offsets[s] + member_pos_[q]) * d;
-        const double* A = Ac_.data() + static_cast<std::size_t>(s) * d4;
+        const double* A = Ap.data() + static_cast<std::size_t>(where[s]) * np;
         for (int a = 0; a < d; ++a)
           for (int bL = 0; bL < d2; ++bL) {
             double t = 0;
-            for (int J = 0; J < d; ++J) t += A[(a * d + J) * d2 + bL] * gk[J];
-            B[a][bL] = w * t;
+            for (int J = 0; J < d; ++J) t += A[detail::packed_at(d2, a * d + J, bL)] * gk[J];
+            B[a][bL] = t;
           }
         for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
           const double* gn = S.grad.data() + r * d;

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "packed_tangent.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/solver/model.hpp"
 
@@ -45,38 +46,14 @@ int mv_team_size() {
 #endif
 }
 
-// dF[a·D + J] = Σ_{m∈S} v_m,a G_S^m,J
-template <int D>
-[[gnu::always_inline]] inline void gather(const int* idx, const double* grad, std::int64_t r0,
-                                          std::int64_t r1, const double* v, double (&dF)[D * D]) {
-  for (int i = 0; i < D * D; ++i) dF[i] = 0.0;
-  for (auto r = r0; r < r1; ++r) {
-    const double* vm = v + static_cast<std::int64_t>(D) * idx[r];
-    const double* g = grad + r * D;
-    for (int a = 0; a < D; ++a)
-      for (int J = 0; J < D; ++J) dF[a * D + J] += vm[a] * g[J];
-  }
-}
-// out_m,a += Σ_J P[a·D + J] G_S^m,J
-template <int D>
-[[gnu::always_inline]] inline void scatter(const int* idx, const double* grad, std::int64_t r0,
-                                           std::int64_t r1, const double (&P)[D * D], double* out) {
-  for (auto r = r0; r < r1; ++r) {
-    double* om = out + static_cast<std::int64_t>(D) * idx[r];
-    const double* g = grad + r * D;
-    for (int a = 0; a < D; ++a) {
-      double t = 0.0;
-      for (int J = 0; J < D; ++J) t += P[a * D + J] * g[J];
-      om[a] += t;
-    }
-  }
-}
+using detail::gather;
+using detail::scatter;
 
 // The product sweep over stencils [s0, s1) (Ap: packed w_S A_S, upper triangle row-major).
 template <int D>
 [[gnu::always_inline]] inline void product_range(const Stencils& S, std::size_t s0, std::size_t s1,
                                                  const double* Ap, const double* v, double* out) {
-  constexpr int D2 = D * D, NP = D2 * (D2 + 1) / 2;
+  constexpr int D2 = D * D, NP = detail::packed_size(D);
   const int* idx = S.index.data();
   const double* grad = S.grad.data();
   const std::int64_t* off = S.offsets.data();
@@ -116,8 +93,8 @@ constexpr std::size_t kThreadedMembers = 1'000'000;
 }  // namespace
 
 template <int D>
-bool Model::operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
-  constexpr int D2 = D * D, NP = D2 * (D2 + 1) / 2;
+bool Model::operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f, double& asym) const {
+  constexpr int D2 = D * D, NP = detail::packed_size(D);
   const Stencils& S = *energy_;
   const std::size_t ns = S.size(), ndof = dofs();
   Apk_.resize(ns * NP);
@@ -131,8 +108,9 @@ bool Model::operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
   const double* grad = S.grad.data();
   const std::int64_t* off = S.offsets.data();
   bool ok = true;
-  double asym = 0.0;  // max |A_ij − A_ji| / max |A| over the stencils
-#pragma omp parallel reduction(&& : ok) reduction(max : asym)
+  asym = 0.0;  // max |A_ij − A_ji| / max |A| over the stencils
+  double amax_asym = 0.0;
+#pragma omp parallel reduction(&& : ok) reduction(max : amax_asym)
   {
     const int t = mv_thread_id(), nt = mv_team_size();
     double* ft = t == 0 ? fd : mvbuf_[static_cast<std::size_t>(t - 1)].data();
@@ -157,17 +135,7 @@ bool Model::operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
       for (int a = 0; a < D; ++a)
         for (int J = 0; J < D; ++J) wP[a * D + J] = w * P(a, J);
       scatter<D>(idx, grad, off[s], off[s + 1], wP, ft);
-      double amax = 0.0, dmax = 0.0;
-      int p = 0;
-      for (int i = 0; i < D2; ++i)
-        for (int j = i; j < D2; ++j, ++p) {
-          const double aij = A(flat(i / D, i % D), flat(j / D, j % D));
-          const double aji = A(flat(j / D, j % D), flat(i / D, i % D));
-          amax = std::max(amax, std::abs(aij));
-          dmax = std::max(dmax, std::abs(aij - aji));
-          Ac[p] = w * 0.5 * (aij + aji);
-        }
-      if (amax > 0) asym = std::max(asym, dmax / amax);
+      amax_asym = std::max(amax_asym, detail::pack_tangent(D, A, w, Ac));
     }
 #pragma omp barrier
     if (nt > 1) {
@@ -179,23 +147,27 @@ bool Model::operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
       }
     }
   }
-  // Hyperelastic tangents are symmetric to round-off (≈ 1e-16 relative); 1e-8 leaves room
-  // for tangents computed by sums over many bonds (Cauchy–Born) and catches a real lack.
-  if (asym > 1e-8)
+  asym = amax_asym;
+  return ok;
+}
+
+bool Model::energy_force_and_tangents(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  double asym = 0.0;
+  const bool ok = d_ == 2 ? operator_sweep<2>(u, f, asym) : operator_sweep<3>(u, f, asym);
+  if (asym > detail::kMaxAsymmetry)
     throw NumericalError(
-        "matrix-free tangent: the material tangent lacks major symmetry (max |A_aJbL − "
-        "A_bLaJ| / max |A| = " +
+        "tangent: the material tangent lacks major symmetry (max |A_aJbL − A_bLaJ| / max |A| = " +
         std::to_string(asym) +
-        "); the packed matrix-free operator needs a hyperelastic material (use the assembled "
-        "tangent: solver.matrix_free: false)");
+        "); the solver stores the stencil tangents packed by this symmetry (assembled and "
+        "matrix-free alike) and needs a hyperelastic material (a stress derived from an "
+        "energy)");
   return ok;
 }
 
 bool Model::internal_force_and_operator(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
   if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
   f.setZero();
-  const bool ok = d_ == 2 ? operator_sweep<2>(u, f) : operator_sweep<3>(u, f);
-  if (!ok || !evaluate_weak_rows(u, true)) return false;
+  if (!energy_force_and_tangents(u, f) || !evaluate_weak_rows(u, true)) return false;
   // Weak rows: f_k −= P(F̄_k) e_k, and the block W_k[a][bL] = Σ_J Ā_aJbL e_J of
   // ∂(P(F̄_k) e_k)/∂F̄_k for the products.
   const std::size_t nw = weak_points_.size();

@@ -210,11 +210,13 @@ int ba(int dim, int n, int reps, bool tangent) {
   double t_tan = std::nan(""), fdiff = std::nan("");
   long long live_tan = 0;
   long long nnz = 0;
+  std::size_t store = 0;  // of which the per-stencil tangents (packed w_S A_S) and scratch
   if (tangent) {
     SparseRow K;
     const long long live3 = live_bytes;
     M.internal_force_and_tangent(u, f, K);
     live_tan = live_bytes - live3;
+    store = M.operator_bytes();
     nnz = K.nonZeros();
     t_tan = 1e300;
     // (the tangent is 10–100× slower than the residual: fewer repetitions)
@@ -247,11 +249,11 @@ int ba(int dim, int n, int reps, bool tangent) {
       "flops_per_term=%.0f bytes_per_term=%.3f residual_gflops=%.3f residual_gbs=%.3f "
       "tangent_vs_residual_rel_f=%.2e pairs=%.0f tangent_pairs_per_s=%.4g "
       "disc_bytes=%lld disc_min_bytes=%.0f model_bytes=%lld residual_scratch_bytes=%lld "
-      "tangent_bytes=%lld k_nnz=%lld k_min_bytes=%.0f peak_rss_mb=%.0f\n",
+      "tangent_bytes=%lld tangent_store_bytes=%zu k_nnz=%lld k_min_bytes=%.0f peak_rss_mb=%.0f\n",
       dim, n, threads(), N, bonds, ns, terms, pterms, static_cast<double>(terms) / N,
       static_cast<double>(terms) / ns, t_disc, t_model, t_res, t_tan, terms / t_res, terms / t_tan,
       flops / terms, bytes / terms, flops / t_res / 1e9, bytes / t_res / 1e9, fdiff, pairs,
-      pairs / t_tan, live_disc, min_disc, live_model, live_res, live_tan, nnz, min_k,
+      pairs / t_tan, live_disc, min_disc, live_model, live_res, live_tan, store, nnz, min_k,
       peak_rss_mb());
   return 0;
 }

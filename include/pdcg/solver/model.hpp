@@ -68,7 +68,10 @@ class Model {
   /// Internal force f(u). Returns false if some F is inadmissible.
   bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   /// Internal force and its tangent K = ∂f/∂u (K gets its pattern, fixed by the body, on the
-  /// first call; later calls refill its values in place).
+  /// first call; later calls refill its values in place). One fused sweep over the energy
+  /// stencils scatters f and stores w_S A(F_S) packed by major symmetry (as the matrix-free
+  /// operator); the row gather then reads the packed tangents, no per-stencil stress is
+  /// kept. Throws NumericalError if a stencil tangent lacks major symmetry.
   bool internal_force_and_tangent(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow& K) const;
 
   /// Matrix-free tangent (docs/solver.md §4, "Matrix-free GMRES"). Internal force f(u) (as
@@ -121,7 +124,10 @@ class Model {
 
  private:
   Mat3 stencil_gradient(const Stencils& s, std::size_t k, const Eigen::VectorXd& u) const;
-  bool evaluate_stencils(const Eigen::VectorXd& u, bool tangent) const;
+  /// Energy part of f (scattered, f must be zero on entry) and the packed weighted stencil
+  /// tangents w_S A(F_S) into Apk_ (model_matvec.cpp); throws NumericalError on a tangent
+  /// without major symmetry.
+  bool energy_force_and_tangents(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   bool evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const;
   template <int D>
   bool residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
@@ -130,7 +136,7 @@ class Model {
   /// the assembled tangent and the row sums need them; the matrix-free operator does not).
   void build_index() const;
   template <int D>
-  bool operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
+  bool operator_sweep(const Eigen::VectorXd& u, Eigen::VectorXd& f, double& asym) const;
   template <int D>
   void product_sweep(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;
   template <int D>
@@ -155,14 +161,13 @@ class Model {
   mutable Csr adjacency_;
   mutable std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)
   // Scratch per energy stencil / per point (mutable: filled by evaluations).
-  mutable std::vector<Mat3> Ps_;
-  mutable std::vector<double> Ac_;     // per stencil: d²×d² tangent, (a·d+J)·d² + b·d+L
   mutable std::vector<Mat3> Pbar_;     // per weak row
   mutable std::vector<Tangent> Abar_;  // per weak row
   // Residual: per-thread force accumulators for threads 1… (thread 0 writes into f).
   mutable std::vector<std::vector<double>> fbuf_;
   mutable std::vector<std::vector<int>> slot_;  // per thread: column slot of each point
-  // Matrix-free operator (internal_force_and_operator / apply_tangent).
+  // Stencil tangents of the assembled tangent and of the matrix-free operator
+  // (internal_force_and_tangent, internal_force_and_operator / apply_tangent).
   mutable std::vector<double> Apk_;  // per stencil: w_S A_S, upper triangle of d²×d², row-major
   mutable std::vector<double> Wk_;   // per weak row: d × d², Σ_J Ā_aJbL e_J
   mutable std::vector<std::vector<double>> mvbuf_;  // per-thread accumulators (threads 1…)
