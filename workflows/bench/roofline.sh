@@ -109,7 +109,7 @@ if roof:
               f"{float(r['best_round_fraction']):.2f} (1/{1 / float(r['best_round_fraction']):.1f}) |")
 print("\nMemory (live heap bytes; 'min' = the data that must be held, see ba_roofline.cpp):\n")
 print("| dim | points | terms | discretization B/point | B/term | min B/term | ratio | model B/point | "
-      "B/term | tangent (K + stencil P, A) B/point | K min B/point | ratio |")
+      "B/term | tangent (K + stencil tangents + row index) B/point | K min B/point | ratio |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 seen = set()
 for r in rows:
