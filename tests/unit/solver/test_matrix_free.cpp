@@ -11,6 +11,7 @@
 #include "pdcg/core/error.hpp"
 #include "pdcg/solver/newton.hpp"
 #include "pdcg_test.hpp"
+#include "reduced_condition.hpp"
 
 using namespace pdcg::solver;
 
@@ -177,25 +178,7 @@ TEST(MatrixFree, NewtonGmresSameSolutionAsDirect) {
     EXPECT_GE(products, krylov);  // + one product per restart and per step's predictor
     // Both satisfy ‖R_f‖ ≤ tol ‖f‖: their difference is bounded by κ(K_ff) · tol · ‖u‖
     // (κ from a dense SVD of the reduced tangent at the solution).
-    Eigen::VectorXd f;
-    SparseRow K;
-    ASSERT_TRUE(M.internal_force_and_tangent(u[0], f, K));
-    std::vector<int> fr;
-    {
-      std::vector<char> fixed(M.dofs(), 0);
-      for (const auto& set : c.sets)
-        for (int p : set.points)
-          for (int a = 0; a < dim; ++a)
-            if (set.component[a]) fixed[dim * p + a] = 1;
-      for (std::size_t i = 0; i < M.dofs(); ++i)
-        if (!fixed[i]) fr.push_back(static_cast<int>(i));
-    }
-    const Eigen::MatrixXd Kd(K);
-    Eigen::MatrixXd Kff(fr.size(), fr.size());
-    for (std::size_t i = 0; i < fr.size(); ++i)
-      for (std::size_t j = 0; j < fr.size(); ++j) Kff(i, j) = Kd(fr[i], fr[j]);
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Kff);
-    const double cond = svd.singularValues()(0) / svd.singularValues().tail(1)(0);
+    const double cond = test_support::reduced_condition_number(M, c.sets, u[0]);
     EXPECT_LT((u[1] - u[0]).norm(), 10 * cond * tol * u[0].norm())
         << dim << "D, condition number " << cond;
     EXPECT_GT(u[0].norm(), 0.05);
