@@ -1,4 +1,4 @@
-// Internal: expected energies and force states of statistical bodies (DESIGN.md §2.2).
+// Internal: expected energies and force states of statistical bodies (docs/theory.md §2).
 #pragma once
 
 #include <Eigen/Core>

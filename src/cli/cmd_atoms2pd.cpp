@@ -1,7 +1,7 @@
 /// `pdcg atoms2pd --input FILE [--frame N | --frames A:B[:S]] --potential FILE
 ///   --density delta|statistical [--statistics gaussian|empirical] [--order N | --samples N]
 ///   [--width W] [--dimension D] [--boundary "p p f"] -o body.h5`
-/// Builds a PD body from atoms (DESIGN.md §2.1–2.2).
+/// Builds a PD body from atoms (docs/theory.md §1–2).
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 /// `pdcg homogenize BODY.h5 --kernel NAME --width W [--spacing H | --points FILE] -o hom.h5`
-/// Homogenises a body (DESIGN.md §2.3) on a regular grid or on given points.
+/// Homogenises a body (docs/theory.md §3) on a regular grid or on given points.
 #include <fmt/format.h>
 
 #include <Eigen/Dense>

@@ -1,4 +1,4 @@
-/// `pdcg rescale BODY.h5 --factor EPS | --horizon D -o res.h5` (DESIGN.md §2.4).
+/// `pdcg rescale BODY.h5 --factor EPS | --horizon D -o res.h5` (docs/theory.md §4).
 #include <cstdio>
 
 #include "command.hpp"

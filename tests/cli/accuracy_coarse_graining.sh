@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 9, item 2: the coarse-graining accuracy workflow (workflows/accuracy/coarse_graining.sh)
+# The coarse-graining accuracy workflow (workflows/accuracy/coarse_graining.sh)
 # at its smallest size (256-atom LJ chain, λ₀ = 16h, ε ∈ {1, 2}, one repeat, ~5 s), then its numbers:
 #  - ε = 1 (delta body, pdcg md) against LAMMPS MD of the same atoms: displacement error at
 #    round-off (the delta body is exactly MD; positions ~3e2 carry 3e-14 of round-off against a

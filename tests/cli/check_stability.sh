@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `solver: {check_stability: true}` in a scene (issue 9, hard case "buckling-prone slender
+# `solver: {check_stability: true}` in a scene (hard case "buckling-prone slender
 # strip"): the perfect strip 1 × 0.1 (40 × 4 points, m = 3, energy form, plane strain, K/μ = 10,
 # both end columns clamped) compressed to 9.75% in 20 steps. With the check the run stops at
 # the first step past the bifurcation with exit 1 and the loss-of-stability diagnosis, keeping

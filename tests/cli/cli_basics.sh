@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CLI behaviour of the pdcg executable (issue 2): help, version, exit codes.
+# CLI behaviour of the pdcg executable: help, version, exit codes.
 # Usage: cli_basics.sh /path/to/pdcg
 set -u
 pdcg=$1

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 5: the dispersion workflow (workflows/dispersion/run.sh) end to end into a temporary
+# The dispersion workflow (workflows/dispersion/run.sh) end to end into a temporary
 # directory, then its numbers: every model curve of the chain bodies (delta, homogenised with
 # each kernel, rescaled ε = 2 and 4, homogenised + rescaled) within 1e-12 of the closed form
 # (same formula, round-off only), the measured ridges of the LAMMPS MD and of the `pdcg md` run

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `pdcg elastic` (issue 8): FCC Cu (EAM Cu_u3) prepared by the `lmp` binary; the CLI's C11,
+# `pdcg elastic`: FCC Cu (EAM Cu_u3) prepared by the `lmp` binary; the CLI's C11,
 # C12, C44 against LAMMPS energies of the same crystal under ±Green–Lagrange strain (second
 # differences, as in tests/unit/body/test_cauchy_born.cpp), the same constants for the
 # homogenised and rescaled model files, and exit code 2 for a bad --F.
@@ -70,7 +70,7 @@ ok = True
 for name, a, b in zip(("C11", "C12", "C44"), pd, ref):
     rel = abs(a - b) / abs(b)
     print(f"  {name}: pdcg {a:.8g} eV/A^3, LAMMPS {b:.8g}, rel. diff {rel:.2e}")
-    ok &= rel < 5e-3  # issue 8 acceptance: 0.5%
+    ok &= rel < 5e-3  # acceptance: 0.5%
 for f in ("hom", "res"):
     Cf = d[f]["C_voigt"]
     dev = max(abs(Cf[i][j] - C[i][j]) for i in range(6) for j in range(6)) / abs(C[0][0])

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `pdcg inspect` on a triclinic gzip dump and a data file (issue 3): JSON keys and
+# `pdcg inspect` on a triclinic gzip dump and a data file: JSON keys and
 # values (box converted from the dump's bounding box by the rules of
 # https://docs.lammps.org/Howto_triclinic.html, worked out by hand below), the
 # text form, and exit code 2 with file:line for a bad file.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checkpoint/restart (issue 7): a run killed after a checkpoint (PDCG_TEST_FAIL_AFTER_STEP:
+# Checkpoint/restart: a run killed after a checkpoint (PDCG_TEST_FAIL_AFTER_STEP:
 # std::_Exit after the outputs of that step, no clean-up, like a kill) and continued with
 # `pdcg run scene.yaml --restart DIR` gives bitwise the same outputs as an uninterrupted run
 # on one thread: series/reactions CSV and XDMF byte for byte, every dataset of every

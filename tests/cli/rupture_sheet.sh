@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rubber-sheet rupture, qualitative acceptance of issue 7 on a coarse sheet (docs/validation.md
+# Rubber-sheet rupture, qualitative acceptance on a coarse sheet (docs/validation.md
 # "Rubber sheet rupture"): the workflow scenes of workflows/rupture/ (20 × 20 points);
 # checks in workflows/rupture/check_small.py.
 #   rupture_sheet.sh <pdcg> <source dir>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 2: PDCG_ENABLE_LAMMPS=OFF must still build everything that does not need LAMMPS,
+# PDCG_ENABLE_LAMMPS=OFF must still build everything that does not need LAMMPS,
 # and `pdcg version` must say LAMMPS is not enabled.
 # Usage: build_without_lammps.sh <source-dir> <scratch-build-dir>
 set -euo pipefail

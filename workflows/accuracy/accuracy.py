@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Accuracy against cost (issue 9 §1 items 1 and 4), summarised in docs/accuracy-cost.md.
+"""Accuracy against cost (§1 and §4), summarised in docs/accuracy-cost.md.
 
 Item 1 (``plate``): the plate with a hole of docs/validation.md §1 (plane strain Neo-Hookean,
 mu = 1, K = 10, right edge u_x = d) run by ``pdcg run`` over grid spacings and horizon
 factors m (delta = (m + 0.015) dx), each run a separate process timed by wall clock and its
 peak resident memory read from the kernel (os.wait4 rusage). Two point layouts: the
-issue-6 scene contract (Dirichlet point columns at x = dx/2 and 1 - dx/2, gauge 1 - dx) and
+plate-with-hole scene contract (Dirichlet point columns at x = dx/2 and 1 - dx/2, gauge 1 - dx) and
 'faces' (body extended by dx/2 at both ends so the Dirichlet columns sit at x = 0 and 1,
 the FEM's gauge; the convergence study). Errors: (a) relative deviation of the right-edge
 reaction from the converged FEM reference (Richardson-extrapolated P2 FEM,
@@ -127,7 +127,7 @@ LAYOUTS = ("contract", "faces")
 
 
 def run_pdcg(pdcg, work, h, m, d, steps, tol, timeout=None, linear="umfpack", layout="contract"):
-    """layout 'contract': the issue-6 scene contract, cell-centred grid on [0,1]², the
+    """layout 'contract': the plate-with-hole scene contract, cell-centred grid on [0,1]², the
     Dirichlet regions x_max: 0 / x_min: 1 select the outermost point columns at x = Δx/2 and
     1 − Δx/2 (gauge length 1 − Δx). 'faces': the body is extended by Δx/2 at both ends
     (origin −Δx/2, width 1 + Δx, N + 1 full-cell columns), so the same regions select the

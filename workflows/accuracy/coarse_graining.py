@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Coarse-graining accuracy against cost: rescaled models of an LJ lattice vs LAMMPS MD (issue 9, item 2).
+"""Coarse-graining accuracy against cost: rescaled models of an LJ lattice vs LAMMPS MD (docs/accuracy-cost.md §2).
 
 usage: PDCG=/path/to/pdcg [LATTICE=chain|fcc] coarse_graining.py OUT_DIR
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Accuracy against cost of coarse-graining (issue 9, item 2): a Gaussian wave packet in a
+# Accuracy against cost of coarse-graining (docs/accuracy-cost.md §2): a Gaussian wave packet in a
 # periodic 1D Lennard-Jones chain and in a long FCC LJ bar periodic in y, z (longitudinal, along
 # [100]), LAMMPS MD of the atoms as the reference, rescaled models
 # (N/ε points, `pdcg atoms2pd` + `pdcg rescale --factor ε`, `pdcg md` with Δt·ε) for ε ∈ {1, 2, 4, 8}:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Accuracy against cost (issue 9 §1 items 1 and 4): one command, CSV + PNG per item, summary in
+# Accuracy against cost (docs/accuracy-cost.md §1 and §4): one command, CSV + PNG per item, summary in
 # docs/accuracy-cost.md.
 #   workflows/accuracy/run.sh [OUT=build/accuracy]   (item 1: see docs/accuracy-cost.md §1 for the
 #     measured time, dominated by the dx = 1/160 runs; --spacings 0.05 0.025 0.0125 for minutes;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Explicit vs quasi-static rupture for the same case (issue 9 §4, second half;
+# Explicit vs quasi-static rupture for the same case (docs/accuracy-cost.md §4b;
 # docs/accuracy-cost.md §4b): one pre-cracked plane-stress Neo-Hookean sheet (1 × 1, edge
 # crack 0.3, μ = 1, K = 100, ρ = 1, bond stretch 1.15, Δx = SPACING) pulled at its top edge
 # to ū = UMAX, once quasi-statically (Newton, staggered rupture, STEPS load steps) and once

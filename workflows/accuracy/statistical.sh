@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Accuracy against cost of statistical densities (issue 9, item 3): the expected energy of an
+# Accuracy against cost of statistical densities (docs/accuracy-cost.md §3): the expected energy of an
 # FCC Lennard-Jones crystal with Gaussian atoms, by Gauss–Hermite cubature (order n) and by
 # sampling (S joint draws, several seeds), against a converged reference (cubature order 16),
 # with the wall time of each evaluation; CSV + PNG (summarised in docs/accuracy-cost.md §3).

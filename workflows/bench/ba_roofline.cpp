@@ -1,6 +1,7 @@
 // bench_ba_roofline: throughput of the BA residual evaluation and of the tangent assembly
-// against the machine's measured roofline (issue 10 §2), and the bytes the BA solver holds
-// per point / per BA family term (issue 10, "Memory"). Driven by workflows/bench/roofline.sh.
+// against the machine's measured roofline (docs/performance.md), and the bytes the BA solver holds
+// per point / per BA family term (docs/performance.md, "Memory"). Driven by
+// workflows/bench/roofline.sh.
 //
 //   bench_ba_roofline triad <threads> [MiB per array = 256]   STREAM-like triad a = b + s·c
 //   bench_ba_roofline fma <threads>                            FMA peak (AVX2+FMA if present)

@@ -1,6 +1,7 @@
-// bench_body_memory: bytes per atom / point and per bond held by each body kind (issue 10,
-// "Memory"), measured as live heap bytes (counting malloc, live_bytes.hpp) against the data
-// each must hold. FCC LJ crystal (ρ = 0.8442, lj/cut 2.5, periodic), n³ cells (4n³ atoms).
+// bench_body_memory: bytes per atom / point and per bond held by each body kind
+// (docs/performance.md, "Memory"), measured as live heap bytes (counting malloc, live_bytes.hpp)
+// against the data each must hold. FCC LJ crystal (ρ = 0.8442, lj/cut 2.5, periodic), n³ cells (4n³
+// atoms).
 //   bench_body_memory [n = 12]
 // One key=value line per body kind; roofline.sh turns them into the memory table.
 //

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmark 1 (issue 10): fixed-family dynamics of a delta body (`pdcg md`) vs LAMMPS MD (`lmp`,
+# Benchmark: fixed-family dynamics of a delta body (`pdcg md`) vs LAMMPS MD (`lmp`,
 # Debian build: no OPENMP package, so LAMMPS runs on one thread; its best serial styles are the
 # OPT package's, `-sf opt`: lj/cut/opt, eam/opt) on the same atoms: FCC LJ (lj/cut 2.5, lj units,
 # dt 0.005) and FCC Cu (eam Cu_u3, metal, dt 0.001), 32k and 256k atoms, NVE, same steps, pdcg

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# BA kernels against the machine's roofline (issue 10 §2 and "Memory"):
+# BA kernels against the machine's roofline (docs/performance.md, "Memory"):
 #  1. STREAM-like triad (GB/s) and FMA peak (GFLOP/s, AVX2+FMA) on 1 and 2 threads, each
 #     probe run REPEAT times, the best kept (shared machine: the best is the least disturbed);
 #  2. BA residual evaluation and tangent assembly on unit squares (2D plane strain) and cubes

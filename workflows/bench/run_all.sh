@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# All performance benchmarks of issue 10 in one command: prints every table and writes them,
+# All performance benchmarks in one command: prints every table and writes them,
 # with the machine and the load, into the generated block at the end of docs/performance.md
 # (between the `<!-- bench:generated:begin -->` and `<!-- bench:generated:end -->` markers;
 # the hand-written analysis above the block is left alone). The block is replaced as a whole,

@@ -1,4 +1,4 @@
-// bench_rupture_cost: "only what a scene asks for" (issue 7, docs/effects.md). Per-load-step
+// bench_rupture_cost: "only what a scene asks for" (docs/effects.md). Per-load-step
 // cost of the quasi-static BA solver on one pre-cracked plane-stress sheet (Neo-Hookean,
 // μ = 1, K = 100, n × n points, m = 3.015, edge crack to x = 0.3 at y = 0.5, top edge
 // pulled to u_y = 0.1), in three configurations of the same code path that `pdcg run` uses:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# BA solver benchmark (issues 6 and 10 §3): per Newton iteration, residual+tangent assembly,
+# BA solver benchmark (docs/performance.md "BA solver"): per Newton iteration, residual+tangent assembly,
 # factorisation, and the rest of the linear solve (reduction + triangular solves / Krylov
 # iterations), and peak memory, versus the number of points; 2D (plane strain) and 3D unit
 # square / cube, m = 3.015, weak form (UMFPACK) plus, at the comparison sizes, the symmetric

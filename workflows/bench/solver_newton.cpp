@@ -1,5 +1,5 @@
 // bench_solver_newton: residual+tangent assembly time and linear-solve time per Newton
-// iteration of the BA solver (issue 6 benchmark; docs/performance.md "BA solver").
+// iteration of the BA solver (benchmark; docs/performance.md "BA solver").
 // A unit square (2D, plane strain) or cube (3D) with n points per edge, m = 3.015, μ = 1,
 // K = 10, uniaxial stretch λ = 1.05 in one load step (left face x-fixed + pins, right face
 // displaced); times from the solver's own per-step report (summed over the Newton

@@ -6,7 +6,7 @@ usage: check_and_plot.py OUT_DIR
 Closed forms (written here, independent of pdcg): chain with springs μ₁ = 1, μ₂, M = h = 1,
     ω(κ) = sqrt(2[(1 − cos κ) + μ₂(1 − cos 2κ)]),   rescaled by ε: ω_ε(κ) = ω(εκ)/ε.
 Tolerances (each with its reason):
-    model vs closed form        1e-12 absolute (issue 5; the same formula up to round-off)
+    model vs closed form        1e-12 absolute (the same formula up to round-off)
     measured ridge vs closed    1 frequency bin Δω = 2π/(T Δt) (the transform's resolution)
     FCC LJ vs LAMMPS LD         1e-5 · ω_max (central differences of LAMMPS forces, step 1e-4σ)
     FCC LJ ε = 16 vs delta      ω₁₆(κ/16)·16 = ω(κ) to 1e-12 relative, ω² finite and ≥ 0
@@ -55,7 +55,7 @@ def main(out):
             results.append((f"{tag}: {name}", "closed form ω(εκ)/ε" if eps > 1 else "closed form ω(κ)",
                             max(worst, worst_t), 1e-12, "abs"))
             curves[name] = (c["kappa"], w)
-        # the values quoted in issue 5
+        # reference values of the closed forms
         k, w = curves["delta"]
         at_pi = w[k.index(max(k))]
         k2, w2 = curves["rescaled ε=2"]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Dispersion workflow (issue 5): atomistic, homogenised and rescaled curves in one PNG.
+# Dispersion workflow (docs/dispersion.md): atomistic, homogenised and rescaled curves in one PNG.
 #
 #   workflows/dispersion/run.sh [OUT=results/dispersion]        (~30 s; PDCG=/path/to/pdcg optional)
 #

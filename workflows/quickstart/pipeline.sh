@@ -33,7 +33,7 @@ $py - <<'PY'
 import json
 d, h, r = (json.load(open(f"energy_{k}.json")) for k in ("delta", "hom", "res"))
 print(f"   energy density under F: atoms {d['energy_density']:.12g}, homogenised {h['energy_density']:.12g}, rescaled {r['energy_density']:.12g}")
-print(f"   relative differences: {abs(h['energy_density']/d['energy_density']-1):.1e}, {abs(r['energy_density']/d['energy_density']-1):.1e} (§2.3-2.4: must vanish)")
+print(f"   relative differences: {abs(h['energy_density']/d['energy_density']-1):.1e}, {abs(r['energy_density']/d['energy_density']-1):.1e} (docs/theory.md §3-4: must vanish)")
 PY
 
 echo "== 7. dispersion: perfect lattice (LAMMPS), its delta body, rescaled by ε = 2 and 4"

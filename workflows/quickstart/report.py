@@ -195,7 +195,7 @@ lines = [
     f"| \\|Σ_k f_k\\| (momentum balance) | {fc['net_force']:.1e} |",
     "",
     "The PD internal force f_k = Σ_j (t_kj − t_jk) with t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩ equals the MD force to",
-    "round-off (DESIGN.md §2.1).",
+    "round-off (docs/theory.md §1).",
     "",
     "## 2. Homogenise and rescale: energy is conserved",
     f"Under F = [[1.02, 0.01, 0], [0, 0.99, 0], [0, 0, 1.01]]:",

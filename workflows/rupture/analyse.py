@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Rubber-sheet rupture study (issue 7): tables and plots from the runs of run.sh.
+"""Rubber-sheet rupture study (docs/validation.md §3): tables and plots from the runs of run.sh.
 
 usage: analyse.py OUT IMGDIR
   OUT/edge       edge pre-crack c = 0.3 (the main case)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# "Only what a scene asks for" (issue 7; docs/effects.md): per-load-step cost of the same
+# "Only what a scene asks for" (docs/effects.md): per-load-step cost of the same
 # pre-cracked sheet (plane stress, mu = 1, K = 100, N x N points, top grip to u_y = 0.1)
 #   elastic   the elasticity-only solver (Model + StaticSolver: what a scene without effects runs)
 #   rupture   the same with rupture enabled whose criterion is never reached (stretch 10)

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Qualitative rupture acceptance of issue 7 on the coarse sheets of tests/cli/rupture_sheet.sh
+"""Qualitative rupture acceptance on the coarse sheets of tests/cli/rupture_sheet.sh
 (20 x 20 points, spacing h = 0.05, horizon delta = 3.015 h).
 
 usage: check_small.py EDGE_RUN_DIR CENTRE_RUN_DIR      (exit 1 with the reasons on failure)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rubber-sheet rupture study (issue 7; docs/validation.md "Rubber sheet rupture"):
+# Rubber-sheet rupture study (docs/validation.md "Rubber sheet rupture"):
 #   edge pre-crack (c = 0.3) and centre pre-crack (2c = 1/3) under displacement-controlled
 #   tension, plus edge cracks c = 0.2 and 0.4 for the Rivlin-Thomas comparison; then the
 #   tables (OUT/summary.txt) and plots (docs/img/rupture_*.png).

@@ -1,4 +1,4 @@
-"""Post-processing of pdcg rupture runs (issue 7, docs/validation.md "Rubber sheet rupture").
+"""Post-processing of pdcg rupture runs (docs/validation.md "Rubber sheet rupture").
 
 Reads only what `pdcg run` writes (reactions.csv, results_NNNN.h5) and measures:
   * the load-displacement curve of the top grip, its peak and the drop after it;
@@ -143,7 +143,7 @@ def analyse(run_dir, tip, y_line, grip_length, grip="top", direction=+1, tip2=No
 
 # ---- independent reference: Neo-Hookean plane-stress uniaxial tension ----------------------
 def psi(l1, l2, l3, mu, K):
-    """Psi = mu/2 (J^(-2/3) tr C - 3) + K/8 (J - 1/J)^2 (the seed's Neo-Hookean)."""
+    """Psi = mu/2 (J^(-2/3) tr C - 3) + K/8 (J - 1/J)^2 (docs/theory.md §8)."""
     J = l1 * l2 * l3
     return 0.5 * mu * (J ** (-2.0 / 3.0) * (l1 * l1 + l2 * l2 + l3 * l3) - 3.0) + \
         K / 8.0 * (J - 1.0 / J) ** 2

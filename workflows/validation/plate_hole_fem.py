@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Independent FEM reference for the pdcg plate-with-hole validation (issue 6).
+"""Independent FEM reference for the pdcg plate-with-hole validation (docs/validation.md §1).
 
-Problem (DESIGN.md §2.6, docs/solver.md, scene contract of issue 6):
+Problem (docs/theory.md §7–8, docs/solver.md, the plate-with-hole scene contract):
   plate [0,1]², circular hole centre (0.5,0.5), R = 0.2, plane strain, unit thickness,
   compressible Neo-Hookean  Ψ = μ/2 (J^(-2/3) tr C − 3) + K/8 (J − 1/J)²  (C = FᵀF, F₃₃ = 1),
   μ = 1, K = 10; left edge u_x = 0 (+ a pin u_y = 0 at (0,0)), right edge u_x = d (u_y free),

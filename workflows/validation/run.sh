@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Plate-with-hole validation (issue 6): the independent FEM reference, then pdcg on the same
+# Plate-with-hole validation (docs/validation.md §1): the independent FEM reference, then pdcg on the same
 # plate at several spacings, the comparison table and plot for docs/validation.md.
 #   workflows/validation/run.sh [OUT=build/validation]   (FEM_LEVELS=5 by default; ~20 min,
 #   SPACINGS="0.05 0.025 0.0125" by default: + ~10 min for the finest)

@@ -74,7 +74,7 @@ class LammpsEngine {
 std::vector<std::string> lammps_potential_commands(const PotentialSpec& spec);
 
 /// Force states of a style evaluated by embedded LAMMPS (many-body through the per-atom
-/// energy, DESIGN.md §2.1): ψ_k and t_b = ∂ψ_k/∂Y⟨ξ_b⟩ for every bond b = (k → j) of
+/// energy, docs/theory.md §1): ψ_k and t_b = ∂ψ_k/∂Y⟨ξ_b⟩ for every bond b = (k → j) of
 /// `families`, at the configuration `atoms` (same atoms and order as the families were built
 /// from, positions possibly deformed). ψ_k is a function of the relative positions only, so
 /// ∂ψ_k/∂Y⟨ξ_kj⟩ = ∂ψ_k/∂y_j, taken from LammpsEngine::energy_derivatives; then

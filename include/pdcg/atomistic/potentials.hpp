@@ -1,5 +1,5 @@
 /// \file
-/// Native interatomic potentials as PD constitutive models (DESIGN.md §2.1), built from the
+/// Native interatomic potentials as PD constitutive models (docs/theory.md §1), built from the
 /// LAMMPS commands of a PotentialSpec.
 ///
 /// Native pair styles (https://docs.lammps.org/pair_style.html), same double-precision

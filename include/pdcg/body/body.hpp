@@ -1,17 +1,17 @@
 /// \file
-/// Peridynamic bodies made from atoms (DESIGN.md §2.1–2.4, docs/bodies.md).
+/// Peridynamic bodies made from atoms (docs/theory.md §1–4, docs/bodies.md).
 ///
 /// A Body is a nonhomogeneous PD body whose constitutive model IS the interatomic potential.
 /// It has an atomic layer — one point per atom k with reference position x_k, mass M_k, type,
 /// family of bonds ξ_kj (CSR, periodic images, atomistic::Families) and the multibody energy
 /// ψ_k(Y⟨ξ_kj⟩) of a Potential — and optional layers added by coarse-graining:
 ///
-///  - delta (§2.1):        ρ(x) = Σ_k M_k Δ(x − x_k),  W(Y, x) = Σ_k Δ(x − x_k) ψ_k(Y).
-///  - statistical (§2.2):  ρ(x) = Σ_k M_k P_k(x),  ψ_k replaced by its expectation over the
+///  - delta (§1):        ρ(x) = Σ_k M_k Δ(x − x_k),  W(Y, x) = Σ_k Δ(x − x_k) ψ_k(Y).
+///  - statistical (§2):  ρ(x) = Σ_k M_k P_k(x),  ψ_k replaced by its expectation over the
 ///                         independent position densities P_j of the atoms (Statistics).
-///  - rescaled (§2.4):     W_ε(Y) = W(E(Y)), (E(Y))⟨ξ⟩ = ε⁻¹ Y⟨εξ⟩; points at εx_k, bonds εξ,
+///  - rescaled (§4):     W_ε(Y) = W(E(Y)), (E(Y))⟨ξ⟩ = ε⁻¹ Y⟨εξ⟩; points at εx_k, bonds εξ,
 ///                         point masses and energies ×ε^d (density and W unchanged).
-///  - homogenised (§2.3):  continuum points x_p with discrete kernel weights w_kp
+///  - homogenised (§3):  continuum points x_p with discrete kernel weights w_kp
 ///                         (Σ_p w_kp = 1 for every atom k): m_p = Σ_k w_kp M_k and the
 ///                         weighted atomic bond sets, point energy E_p(Y) = Σ_k w_kp ψ_k(Y).
 ///
@@ -40,7 +40,7 @@ std::string_view to_string(BodyKind kind);
 /// Parses "delta|statistical|homogenised|rescaled" (also "homogenized"); InputError otherwise.
 BodyKind parse_body_kind(std::string_view name, std::string_view where = {});
 
-/// Statistical densities P_k of the atomic layer (§2.2).
+/// Statistical densities P_k of the atomic layer (docs/theory.md §2).
 struct Statistics {
   enum class Form { gaussian, empirical };
   enum class Method { cubature, sampling };
@@ -77,7 +77,7 @@ struct Statistics {
   }
 };
 
-/// Homogenisation layer (§2.3).
+/// Homogenisation layer (docs/theory.md §3).
 struct Homogenisation {
   std::string kernel;          ///< kernel name (coarsen/kernels.hpp)
   double width = 0.0;          ///< kernel width parameter

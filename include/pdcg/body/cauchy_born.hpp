@@ -1,5 +1,5 @@
 /// \file
-/// Cauchy–Born material of a pdcg body (DESIGN.md §2.6, docs/elastic.md).
+/// Cauchy–Born material of a pdcg body (docs/theory.md §8, docs/elastic.md).
 ///
 /// Under a homogeneous deformation Y_F⟨ξ⟩ = Fξ every bond b of atom k has Y_b = F ξ_b, and the
 /// energy density of the body is
@@ -23,8 +23,8 @@
 /// formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the plane-strain reduction, and V₀ is the
 /// reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k w_kp ψ_k(Fξ) per point; the body's
 /// W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the delta body's W since Σ_p w_kp = 1).
-/// Rescaled bodies use the ε-wrapped potential on the scaled bonds (W_ε(F) = W(F), §2.4).
-/// Statistical bodies are not supported (InputError).
+/// Rescaled bodies use the ε-wrapped potential on the scaled bonds (W_ε(F) = W(F), docs/theory.md
+/// §4). Statistical bodies are not supported (InputError).
 #pragma once
 
 #include <Eigen/Core>

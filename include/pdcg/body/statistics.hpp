@@ -1,5 +1,5 @@
 /// \file
-/// Statistical bodies (DESIGN.md §2.2, docs/bodies.md): each atom k has a position density P_k;
+/// Statistical bodies (docs/theory.md §2, docs/bodies.md): each atom k has a position density P_k;
 ///   ρ(x) = Σ_k M_k P_k(x),
 ///   W(Y, x) = Σ_k P_k(x) ∫…∫ ψ_k(Y⟨ξ_1⟩, …) Π_j P_j(ξ_j + x) dξ_j,
 /// so the total energy is the expected energy of independent atoms. Forms:

@@ -1,5 +1,5 @@
 /// \file
-/// Homogenisation (DESIGN.md §2.3): W̄(Y, x) = ∫ φ(q) W(Y, x + q) dq = Σ_k φ(x_k − x) ψ_k(Y),
+/// Homogenisation (docs/theory.md §3): W̄(Y, x) = ∫ φ(q) W(Y, x + q) dq = Σ_k φ(x_k − x) ψ_k(Y),
 /// ρ̄(x) = Σ_k M_k φ(x_k − x). On a discrete set of continuum points x_p the weights are
 ///   w_kp = φ(|x_k − x_p|) / Σ_q φ(|x_k − x_q|)     (periodic images summed),
 /// so Σ_p w_kp = 1 for every atom k and the point masses m_p = Σ_k w_kp M_k and point energies

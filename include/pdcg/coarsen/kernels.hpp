@@ -1,5 +1,5 @@
 /// \file
-/// Homogenisation kernels φ(q) (DESIGN.md §2.3, docs/bodies.md). A kernel is a small value
+/// Homogenisation kernels φ(q) (docs/theory.md §3, docs/bodies.md). A kernel is a small value
 /// type (aggregate with its width as only member) with a name, width(), support() and a radial
 /// shape operator()(r); adding one is one struct plus its entry in the Kernel variant below. Shapes
 /// are not normalised: homogenisation normalises the discrete weights per atom (Σ_p w_kp = 1),

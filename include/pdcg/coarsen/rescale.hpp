@@ -1,5 +1,5 @@
 /// \file
-/// Rescaling the horizon (DESIGN.md §2.4): ε = δ'/δ,
+/// Rescaling the horizon (docs/theory.md §4): ε = δ'/δ,
 ///   W_ε(Y) = W(E(Y)),  (E(Y))⟨ξ⟩ = ε⁻¹ Y⟨εξ⟩,
 /// so a homogeneous deformation keeps its energy density, W_ε(F) = W(F). Bonds become εξ,
 /// the density is unchanged (point masses ×ε^d as each point now stands for ε^d times the

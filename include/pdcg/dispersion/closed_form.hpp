@@ -1,12 +1,12 @@
 /// \file
-/// Closed-form dispersion relations of the 1D references (DESIGN.md §2.3–2.5).
+/// Closed-form dispersion relations of the 1D references (docs/theory.md §3–5).
 ///
 /// Spring chain with lattice spacing h, mass M per site and springs μ_n to the n-th neighbour
 /// (Brillouin 1946, Wave Propagation in Periodic Structures, ch. 1; Dove 1993, §3):
 ///   ω²(κ) = (2/M) Σ_n μ_n (1 − cos nκh).
 /// Constant-micromodulus 1D PD bar, ρ ω² = ∫_{−δ}^{δ} C (1 − cos κξ) dξ = 2C(δ − sin(κδ)/κ)
 /// (Silling 2000, J. Mech. Phys. Solids 48:175, eq. for the linearised bond-based model).
-/// Rescaling by ε (§2.4): ω_ε(κ) = ω(εκ)/ε.
+/// Rescaling by ε (docs/theory.md §4): ω_ε(κ) = ω(εκ)/ε.
 #pragma once
 
 #include <span>

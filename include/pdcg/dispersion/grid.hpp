@@ -1,5 +1,5 @@
 /// \file
-/// Model dispersion on the full κ-grid of a periodic body at once (FFTW; DESIGN.md §2.5).
+/// Model dispersion on the full κ-grid of a periodic body at once (FFTW; docs/theory.md §5).
 ///
 /// At a point of a Bravais-lattice body (model.hpp) the dynamical matrix is
 ///   D(κ) = Σ_k w_k Σ_bc K_bc [e^{iκ·(ξ_c−ξ_b)} − e^{−iκ·ξ_b} − e^{iκ·ξ_c} + 1] = Σ_R Φ(R)

@@ -1,6 +1,6 @@
 /// \file
 /// Dispersion measured from a trajectory: the space–time Fourier transform of a displacement
-/// field on a periodic 1D lattice (DESIGN.md §2.5).
+/// field on a periodic 1D lattice (docs/theory.md §5).
 ///
 /// For sites n = 0..N−1 at spacing h and frames t = 0..T−1 at interval Δt, with u_n(t) the
 /// displacement (time mean removed per site) and w(t) a window,

@@ -1,5 +1,5 @@
 /// \file
-/// Dispersion of a PD model linearised about its reference configuration (DESIGN.md §2.5).
+/// Dispersion of a PD model linearised about its reference configuration (docs/theory.md §5).
 ///
 /// A plane wave u(x) = a e^{iκ·x} deforms bond b of atom k by Y_b = a_{j_b} e^{iκ·ξ_b} − a_k
 /// (times e^{iκ·x_k}). With K_bc = ∂t_b/∂Y_c (Potential::force_state_tangent) the energy of the
@@ -13,8 +13,8 @@
 ///     D(κ) = Σ_k Σ_bc B_b^H K_bc B_c,  B_b a = a_{j_b} e^{iκ·ξ_b} − a_k,
 ///     ω² = eig(M^{−½} D M^{−½})  (3N branches).
 /// For a 1D chain with springs μ_n this gives ω² = (2/M) Σ μ_n (1 − cos nκh) exactly, and for a
-/// body rescaled by ε it gives ω_ε(κ) = ω(εκ)/ε (§2.4) because K_ε = ε⁻² K on bonds εξ.
-/// Refs: Born & Huang, Dynamical Theory of Crystal Lattices (1954), ch. V; Silling, J. Mech.
+/// body rescaled by ε it gives ω_ε(κ) = ω(εκ)/ε (docs/theory.md §4) because K_ε = ε⁻² K on bonds
+/// εξ. Refs: Born & Huang, Dynamical Theory of Crystal Lattices (1954), ch. V; Silling, J. Mech.
 /// Phys. Solids 48 (2000) 175 (PD dispersion).
 #pragma once
 

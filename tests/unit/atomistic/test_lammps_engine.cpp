@@ -141,7 +141,7 @@ TEST(LammpsEngine, StillingerWeberFallbackMatchesLmpDump) {
 }
 
 // Force states of fallback styles from finite differences of LAMMPS per-atom energies
-// (DESIGN.md §2.1: t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩): the PD force Σ_j (t_kj − t_jk) must be the LAMMPS
+// (docs/theory.md §1: t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩): the PD force Σ_j (t_kj − t_jk) must be the LAMMPS
 // force. The reference is the `lmp` executable's dump of the same configuration.
 namespace {
 struct ForceStateRun {

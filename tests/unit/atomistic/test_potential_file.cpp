@@ -1,5 +1,5 @@
 // Reading LAMMPS potential commands: syntax (comments, continuation, full decks) and the
-// bad-input errors of issue 3, each naming the file and line.
+// bad-input errors, each naming the file and line.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -62,7 +62,7 @@ void compare(const std::string& commands, const Atoms& atoms, double family_marg
     }
   for (double v : s)
     EXPECT_LT(std::abs(v), 1e-11 * fm * static_cast<double>(atoms.size()));  // round-off of N terms
-  // Σ y × f = 0 for a free cluster (central bond forces; DESIGN §2.1 objectivity check)
+  // Σ y × f = 0 for a free cluster (central bond forces; docs/theory.md §1 objectivity check)
   if (!atoms.box.periodic[0] && !atoms.box.periodic[1] && !atoms.box.periodic[2]) {
     Eigen::Vector3d torque = Eigen::Vector3d::Zero();
     double scale = 0;

@@ -92,7 +92,7 @@ void compare(const std::string& commands, const Atoms& atoms, const char* label)
   const double ferr = test::max_norm_relative_error(e.forces, ref.force);
   std::printf("  [%s, %s] %zu atoms: force error %.2e, energy %.12g vs LAMMPS %.12g\n", label,
               pot->style().c_str(), atoms.size(), ferr, e.energy, ref.total_energy);
-  // same double-precision formulas, different summation order: round-off (issue: 1e-9)
+  // same double-precision formulas, different summation order: round-off (required: 1e-9)
   EXPECT_LT(ferr, 1e-9) << label;
   EXPECT_TRUE(test::close(e.energy, ref.total_energy, {0, 1e-9})) << label;
   // the model file rebuilds the same potential from its stored lines and embedded files

@@ -2,7 +2,7 @@
 //  - C11, C12, C44 of FCC LJ and FCC Cu (EAM Cu_u3) against LAMMPS: second differences of
 //    LAMMPS's total energy of the same perfect crystal under ±Green–Lagrange strain
 //    (C_IJKL = ∂²W/∂E_IJ∂E_KL, the definition pdcg reports), via embedded LAMMPS;
-//  - the homogenised and rescaled bodies give the same constants (§2.3–2.4);
+//  - the homogenised and rescaled bodies give the same constants (docs/theory.md §3–4);
 //  - P against central differences of W, A = ∂P/∂F against central differences of P;
 //  - the rescaled potential's analytic tangent against the FD default.
 #include <gtest/gtest.h>
@@ -121,7 +121,7 @@ void check_against_lammps(const std::string& cmds, int cells, double a, double h
               m.pot->style().c_str(), pd[0], ref[0], pd[1], ref[1], pd[2], ref[2]);
   for (int i = 0; i < 3; ++i)
     EXPECT_LT(std::abs(pd[i] - ref[i]) / std::abs(ref[i]), 5e-3)
-        << i;  // acceptance of issue 8: 0.5%
+        << i;  // acceptance vs LAMMPS: 0.5%
   // cubic symmetry of the CB constants (exact for the perfect crystal: round-off)
   EXPECT_NEAR(C(1, 1), C(0, 0), 1e-9 * C(0, 0));
   EXPECT_NEAR(C(4, 4), C(3, 3), 1e-9 * C(0, 0));
@@ -185,8 +185,8 @@ TEST(CauchyBorn, StressAndTangentAgreeWithFiniteDifferences) {
       std::printf("  [%s, %s] P vs FD(W) %.2e, A vs FD(P) %.2e, major symmetry %.2e\n",
                   m.pot->style().c_str(), std::string(to_string(b.kind)).c_str(), perr, aerr,
                   (s.A - s.A.transpose()).cwiseAbs().maxCoeff() / s.A.cwiseAbs().maxCoeff());
-      EXPECT_LT(perr, 1e-6);  // issue 8 acceptance (FD accuracy ≈ 1e-9)
-      EXPECT_LT(aerr, 1e-6);  // issue 8 acceptance
+      EXPECT_LT(perr, 1e-6);  // acceptance (FD accuracy ≈ 1e-9)
+      EXPECT_LT(aerr, 1e-6);  // acceptance
       EXPECT_LT((s.A - s.A.transpose()).cwiseAbs().maxCoeff(),
                 1e-10 * s.A.cwiseAbs().maxCoeff());  // round-off
     }

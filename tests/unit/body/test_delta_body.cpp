@@ -1,4 +1,4 @@
-// Delta bodies (DESIGN.md §2.1): forces = −∂U/∂y (finite differences of the energy, the MD
+// Delta bodies (docs/theory.md §1): forces = −∂U/∂y (finite differences of the energy, the MD
 // definition), momentum balances, objectivity, and energy densities under homogeneous F against
 // closed forms for a spring lattice.
 #include <gtest/gtest.h>
@@ -102,7 +102,7 @@ TEST(DeltaBody, Objectivity) {
     }
   }
   const Evaluation e2 = ev.deformed(yq);
-  // round-off of sums of O(N) terms: 1e-12 relative as the issue asks
+  // round-off of sums of O(N) terms: 1e-12 relative as required
   EXPECT_TRUE(test::close(e2.energy, U1, {0, 1e-12}));
   EXPECT_LT(test::max_norm_relative_error(e2.forces, fq), 1e-12);
 }

@@ -1,4 +1,4 @@
-// Statistical bodies (DESIGN.md §2.2): the harmonic chain closed form, sampling convergence,
+// Statistical bodies (docs/theory.md §2): the harmonic chain closed form, sampling convergence,
 // empirical densities as the frame average, Gaussian fits from frames.
 #include <gtest/gtest.h>
 

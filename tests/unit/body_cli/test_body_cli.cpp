@@ -173,7 +173,7 @@ TEST_F(BodyCli, ForcesEqualLammpsAtReferenceAndDeformedFrames) {
   ASSERT_EQ(ref.size(), 2u);
   r = cli("forces " + p("body.h5") + " -o " + p("f0.csv"));
   ASSERT_EQ(r.code, 0) << r.out;
-  // same formulas in double precision; issue: 1e-9 relative
+  // same formulas in double precision; required: 1e-9 relative
   EXPECT_LT(compare_forces(read_csv(dir / "f0.csv"), ref[0]), 1e-9);
   // deformed: frame 1 (wrapped positions, atoms may have crossed the boundary)
   r = cli("forces " + p("body.h5") + " --deformed " + p("dump.tri") + " --frame 1 -o " +

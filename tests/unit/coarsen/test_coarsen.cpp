@@ -1,6 +1,6 @@
-// Homogenisation (§2.3) and rescaling (§2.4): conservation of mass and energy to round-off on
-// grids not aligned with the lattice, every kernel; W_ε(F) = W(F); the force-state scaling law
-// checked against finite differences of the rescaled energy.
+// Homogenisation (docs/theory.md §3) and rescaling (§4): conservation of mass and energy to
+// round-off on grids not aligned with the lattice, every kernel; W_ε(F) = W(F); the force-state
+// scaling law checked against finite differences of the rescaled energy.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -109,8 +109,8 @@ TEST(Homogenise, GivenPointsAndWarnings) {
 }
 
 TEST(Homogenise, ChainDensityAndEnergyCarryTheSameFactor) {
-  // §2.3: ρ̄ and W̄ carry the same S(x) = Σ_k φ(x_k − x): E_p / m_p = ψ / M at every point, so
-  // the homogenised chain keeps the chain's dispersion.
+  // docs/theory.md §3: ρ̄ and W̄ carry the same S(x) = Σ_k φ(x_k − x): E_p / m_p = ψ / M at every
+  // point, so the homogenised chain keeps the chain's dispersion.
   atomistic::Atoms c;
   c.box.lo = {0, -5, -5};
   c.box.hi = {20, 5, 5};

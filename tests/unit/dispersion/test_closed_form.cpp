@@ -9,7 +9,7 @@
 
 using namespace pdcg::dispersion;
 
-// Values quoted in issue 5 (μ = M = h = 1): √(2(1 − cos 1)) = 0.958851…, 2 at κ = π.
+// Reference values (μ = M = h = 1): √(2(1 − cos 1)) = 0.958851…, 2 at κ = π.
 TEST(ClosedForm, NearestNeighbourChain) {
   const std::vector<double> mu{1.0};
   EXPECT_NEAR(chain_omega(1.0, 1.0, 1.0, mu), 0.958851077208406, 1e-14);  // 15-digit reference

@@ -1,4 +1,4 @@
-// Issue 5 acceptance: dispersion of FCC delta bodies (Lennard-Jones and EAM Cu) along Γ–X and
+// Acceptance: dispersion of FCC delta bodies (Lennard-Jones and EAM Cu) along Γ–X and
 // Γ–L equals the lattice dynamics computed here from LAMMPS forces by finite differences, and
 // the long-wave sound speeds match √(A/ρ) from LAMMPS energies under homogeneous deformation.
 #include <gtest/gtest.h>
@@ -142,7 +142,7 @@ void check_lattice(const std::string& commands, int cells, double a, double mass
       std::sqrt(lammps_wave_modulus(atoms, engine, 0, 1, 1e-4) / rho);  // A_1212 = A_2121 (cubic)
   const double k = 0.01 * 2 * std::numbers::pi / a;  // κa = 0.063: dispersion correction < 0.1%
   const auto w = point_omega(lin, site, masses, {k, 0, 0}, mvv2e);
-  EXPECT_NEAR(w[2] / k, vL, 0.01 * vL);  // issue 5: sound speeds within 1%
+  EXPECT_NEAR(w[2] / k, vL, 0.01 * vL);  // acceptance: sound speeds within 1%
   EXPECT_NEAR(w[0] / k, vT, 0.01 * vT);
   EXPECT_NEAR(w[1] / k, vT, 0.01 * vT);
   std::printf(
@@ -164,7 +164,7 @@ TEST(LatticeDispersion, FccCopperEamMatchesLammpsLatticeDynamics) {
 #endif
 
 #if PDCG_WITH_LAMMPS
-// Issue 5: "a finite-difference fallback for potentials evaluated through LAMMPS". A style pdcg
+// A finite-difference fallback for potentials evaluated through LAMMPS. A style pdcg
 // has no native force states for (lj/smooth/linear) is evaluated by embedded LAMMPS (force
 // states by central differences of pe/atom); its tangent is the central-difference default of
 // Potential. The chain's dispersion has the closed form (Born & Huang ch. V)
@@ -207,7 +207,7 @@ TEST(LatticeDispersion, EmbeddedLammpsStyleByFiniteDifferencesMatchesClosedForm)
     worst = std::max({worst, std::abs(w[2] - wl), std::abs(w[0] - wt), std::abs(w[1] - wt)});
     wmax = std::max(wmax, wl);
   }
-  // issue 5's tolerance for central differences (1e-5 relative); FD tangent (step 6e-6 |ξ|) of
+  // the acceptance tolerance for central differences (1e-5 relative); FD tangent (step 6e-6 |ξ|) of
   // FD force states (≈ 1e-10 relative) bounds the error by ≈ 2e-5, measured 2e-8
   EXPECT_LT(worst, 1e-5 * wmax);
   std::printf("  embedded lj/smooth/linear chain: worst |ω − closed form| = %.3g of ω_max %.6g\n",

@@ -114,7 +114,7 @@ std::vector<double> lammps_chain(std::size_t N, double mu1, double mu2, double d
 }
 }  // namespace
 
-// Acceptance (issue 5): an MD trajectory of a 1D chain produced by LAMMPS gives ridge
+// Acceptance: an MD trajectory of a 1D chain produced by LAMMPS gives ridge
 // frequencies within one frequency-resolution bin of the closed form for every κ.
 TEST(MeasuredLammps, NearestNeighbourChainRidgeMatchesClosedForm) {
   const std::size_t N = 32, T = 1024;
@@ -141,7 +141,7 @@ TEST(MeasuredLammps, NextNearestChainRidgeMatchesClosedForm) {
 }
 #endif
 
-// Bad trajectories (issue 5): atoms that leave the axis or their plane, and a wrong axis.
+// Bad trajectories: atoms that leave the axis or their plane, and a wrong axis.
 namespace {
 /// Frames of a periodic 16-atom chain along x (spacing 1) vibrating along x by 0.05 and along
 /// y by `side`; atom id 5 gets `kick` (x, y, z) added in the last frame.

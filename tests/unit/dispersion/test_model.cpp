@@ -1,4 +1,4 @@
-// Model dispersion of PD bodies of 1D chains against the closed forms (issue 5 acceptance:
+// Model dispersion of PD bodies of 1D chains against the closed forms (acceptance:
 // 1e-12), and the finite-difference tangent default against an analytic one.
 #include <gtest/gtest.h>
 
@@ -99,7 +99,7 @@ TEST(ModelDispersion, DeltaChainEqualsClosedForm) {
   ASSERT_EQ(fam.bonds(), 2u);
   const LinearisedFamilies lin(pot, fam, a.x, a.type);
   const std::vector<double> mass{1.0};
-  // issue 5: 0.958851 at κ = 1, 2 at κ = π (μ = M = h = 1); same formulas, round-off only
+  // reference values: 0.958851 at κ = 1, 2 at κ = π (μ = M = h = 1); same formulas, round-off only
   EXPECT_NEAR(longitudinal(lin, mass, 1.0), 0.958851077208406, 1e-12);
   EXPECT_NEAR(longitudinal(lin, mass, std::numbers::pi), 2.0, 1e-12);
   const std::vector<double> mu{1.0};
@@ -133,7 +133,7 @@ TEST(ModelDispersion, RescaledChainFollowsOmegaOfEpsKappaOverEps) {
     auto w = [&](double k) { return chain_omega(k, 1.0, 1.0, mu); };
     for (double k : {0.1, 0.5, 1.0, std::numbers::pi / 2, std::numbers::pi / eps})
       EXPECT_NEAR(longitudinal(lin, mass, k), rescaled_omega(w, k, eps), 1e-12) << "ε = " << eps;
-    if (eps == 2.0) {  // issue 5: ε = 2 gives 0.841471 at κ = 1 (= sin 1) and 1 at κ = π/2
+    if (eps == 2.0) {  // reference values: ε = 2 gives 0.841471 at κ = 1 (= sin 1) and 1 at κ = π/2
       EXPECT_NEAR(longitudinal(lin, mass, 1.0), 0.841470984807897, 1e-12);
       EXPECT_NEAR(longitudinal(lin, mass, std::numbers::pi / 2), 1.0, 1e-12);
     }

@@ -1,6 +1,6 @@
 // Explicit dynamics of PD bodies (docs/dynamics.md): stable time step of a chain (Gershgorin
 // bound = the exact zone-edge frequency), refusal/acceptance around it, energy conservation,
-// and the measured dispersion of pdcg runs of a delta and a rescaled chain (issue 5).
+// and the measured dispersion of pdcg runs of a delta and a rescaled chain (docs/dispersion.md).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -137,8 +137,8 @@ TEST(Dynamics, ThermalVelocitiesHaveTheTemperatureAndNoMomentum) {
   EXPECT_EQ(dynamics::thermal_velocities(b, 0.37, 11), v);  // reproducible
 }
 
-// Issue 5: a pdcg dynamic run (written as a LAMMPS dump by DumpWriter, read back by the dump
-// reader) of the delta chain and of the chain rescaled by ε = 2, measured with the dispersion
+// Measured dispersion: a pdcg dynamic run (written as a LAMMPS dump by DumpWriter, read back by the
+// dump reader) of the delta chain and of the chain rescaled by ε = 2, measured with the dispersion
 // code: ridge frequencies within one frequency bin of ω(κ) and ω_ε(κ) = ω(εκ)/ε.
 TEST(MeasuredDispersion, DeltaAndRescaledChainRunsFollowOmegaEps) {
   const OneThread one;

@@ -123,7 +123,7 @@ void check_against_lammps(const MdSetup& s, int cells, int steps) {
   std::printf("  [%s] %zu atoms, %d steps: displacement error %.2e, velocity error %.2e\n",
               s.potential.c_str(), n, steps, eu, ev);
   // same forces (to round-off, 1e-14) through the same integrator: differences are summation
-  // order amplified by the dynamics' sensitivity over 100 steps (issue: ~1e-10)
+  // order amplified by the dynamics' sensitivity over 100 steps (required: ~1e-10)
   EXPECT_LT(eu, 1e-10);
   EXPECT_LT(ev, 1e-10);
 }
@@ -178,7 +178,7 @@ TEST(Dynamics, SmallLennardJonesCrystalConservesEnergy) {
       "  LJ 108 atoms: dt_stable %.4g, max |E − E0| / |E0| over 1e4 steps %.2e (KE %.3g, E0 "
       "%.6g)\n",
       st.dt_stable, drift / std::abs(e0), vv.thermo().kinetic, e0);
-  // issue 7 acceptance: total energy drift below 1e-4 relative over 10⁴ steps
+  // acceptance: total energy drift below 1e-4 relative over 10⁴ steps
   EXPECT_LT(drift / std::abs(e0), 1e-4);
   omp_set_num_threads(saved);
 }

@@ -57,7 +57,7 @@ TEST(Hdf5, RoundTripWithProvenance) {
   EXPECT_THROW(r.require_format("pdcg-test", 2), InputError);  // newer schema than reader knows
 }
 
-// Acceptance (issue 2): a write interrupted by an exception leaves no file
+// Acceptance: a write interrupted by an exception leaves no file
 // under the final name, and the previous file under that name intact.
 TEST(Hdf5, InterruptedWriteLeavesNoFileAndKeepsThePreviousOne) {
   const auto path = scratch("atomic.h5");

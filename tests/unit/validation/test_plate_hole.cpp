@@ -1,4 +1,4 @@
-// Issue 6 acceptance: plate with a hole (L = 1, R = 0.2, plane strain, Neo-Hookean
+// Acceptance: plate with a hole (L = 1, R = 0.2, plane strain, Neo-Hookean
 // μ = 1, K = 10, right edge pulled to d = 1.0 in 20 steps, left edge x-fixed + pin, other
 // edges free). pdcg's BA solver, run through the scene contract (load_scene + run_scene,
 // exactly what `pdcg run` does), must give the right-edge reaction within 2% of an
@@ -133,13 +133,13 @@ double max_deviation_from_fem(double default_spacing) {
 }  // namespace
 
 #ifdef PDCG_PLATE_ACCEPTANCE
-// Issue 6 acceptance: 2% at every step, at Δx = 0.0125 (5 588 points). Measured (hole s_k
+// Acceptance: 2% at every step, at Δx = 0.0125 (5 588 points). Measured (hole s_k
 // from the true circle): pdcg is 0.57% … 1.06% below FEM (largest at d = 1); at Δx = 0.05 /
 // 0.025 the deviation is 4.6% / 3.0%: the error converges with Δx (docs/validation.md,
 // convergence table; with the staircase s_k of the hole it was 1.58% … 1.98%).
 // Executable test_validation_acceptance, label `slow` (minutes).
 TEST(PlateWithHole, ReactionMatchesFemWithin2Percent) {
-  EXPECT_LT(max_deviation_from_fem(0.0125), 0.02);  // issue 6 acceptance
+  EXPECT_LT(max_deviation_from_fem(0.0125), 0.02);  // acceptance: 2% of FEM
 }
 #else
 // Fast regression guard on the coarse grid (Δx = 0.05, 20 points across, seconds): the

@@ -1,4 +1,4 @@
-// Hard cases of issue 9 (ctest label `stability`). Each test names the safeguard it
+// Hard cases (docs/validation.md §2; ctest label `stability`). Each test names the safeguard it
 // exercises, what goes wrong without it, and checks both (the failure without the
 // safeguard where it can be shown, and the success with it).
 #include <gtest/gtest.h>
@@ -118,7 +118,7 @@ TEST(Stability, NearIncompressibleUniaxialToLambda3) {
         "K/mu = %g with safeguards: %d steps, %d cutbacks, reaction %.8g exact %.8g "
         "rel %.2e\n",
         K, with.steps, with.cutbacks, with.reaction, with.reaction_exact, rel);
-    EXPECT_LT(std::abs(rel), 0.01);  // issue 9: patch error within 1%
+    EXPECT_LT(std::abs(rel), 0.01);  // acceptance: patch error within 1%
   }
 }
 

@@ -1,5 +1,5 @@
-// Hard cases of issue 9 (ctest label `stability`), second part: a buckling-prone slender
-// strip, a crack tip with ill-conditioned BA families (displacement oscillations on
+// Hard cases (docs/validation.md §2; ctest label `stability`), second part: a buckling-prone
+// slender strip, a crack tip with ill-conditioned BA families (displacement oscillations on
 // perturbed grids: test_stability_slow_oscillation.cpp). Each test names the safeguard,
 // shows what goes wrong without it, and that it works with it (docs/validation.md §2).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Hard case of issue 9 (ctest labels `stability;slow`: ≈ 60 s of CPU): displacement
+// Hard case (docs/validation.md §2; ctest labels `stability;slow`: ≈ 60 s of CPU): displacement
 // oscillations on randomly perturbed grids, BA vs classical correspondence
 // (docs/validation.md §2).
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@ using namespace pdcg::solver;
 
 namespace {
 
-/// Oscillation indicator of issue 9: max_i |u_i − ū_i| / mean_i |u_i|, ū_i the (unweighted)
+/// Oscillation indicator: max_i |u_i − ū_i| / mean_i |u_i|, ū_i the (unweighted)
 /// mean of u over the family H_i (i excluded), |·| the Euclidean norm of the d components;
 /// interior_only: max over the points at least δ from the edges of the unit square.
 double oscillation_indicator(const Discretization& D, const Eigen::VectorXd& u,

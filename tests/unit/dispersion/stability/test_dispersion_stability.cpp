@@ -1,4 +1,4 @@
-// Issue 9 hard case: dispersion at the Brillouin-zone edge and for ε = 16 — finite, positive
+// Hard case: dispersion at the Brillouin-zone edge and for ε = 16 — finite, positive
 // ω², no NaN — for a 1D chain (delta, homogenised, rescaled, homogenised + rescaled) and the
 // FCC Lennard-Jones crystal (delta and rescaled), and the values right (closed form, or the
 // scaling law ω_ε(κ) = ω(εκ)/ε against the delta body).
@@ -124,7 +124,7 @@ TEST(DispersionStability, ChainAtZoneEdgeAndEpsilon16) {
       const std::string what =
           c.name + " ε = " + std::to_string(c.eps) + " κ = " + std::to_string(k);
       expect_stable(w, i == 0 || i == 64, what);
-      // same formula up to round-off (issue 5: 1e-12)
+      // same formula up to round-off (acceptance: 1e-12)
       EXPECT_NEAR(w.maxCoeff(), chain_omega(c.eps * k, mu2) / c.eps, 1e-12) << what;
     }
     // the zone edge: ω_ε(π/ε) = ω(π)/ε = 2/ε
@@ -149,7 +149,7 @@ TEST(DispersionStability, FccLennardJonesAtZoneEdgesAndEpsilon16) {
     if (!gamma) {
       EXPECT_GT(w1.minCoeff(), 0.0);  // all three branches are strictly stable off Γ
     }
-    // ω₁₆(κ/16) = ω(κ)/16 (rescaling, §2.4): round-off only (relative to ω_max)
+    // ω₁₆(κ/16) = ω(κ)/16 (rescaling, docs/theory.md §4): round-off only (relative to ω_max)
     for (int b = 0; b < 3; ++b) EXPECT_NEAR(16.0 * w16[b], w1[b], 1e-12 * wmax);
   }
   // zone-edge values stay bounded by the Γ-X-… maximum (no blow-up at the edge)
