@@ -2,8 +2,8 @@
 #
 # Creates the library target pdcg_<name> (alias pdcg::<name>, exported as
 # pdcg::<name>) from every src/<name>/*.cpp, with include/ as its public
-# include directory. Modules depend on each other one way
-# (core <- body <- coarsen/dispersion/solver; io and atomistic at the edges).
+# include directory. The module graph (who links whom) is documented once, in
+# docs/architecture.md, and checked against the targets by ctest docs.module_graph.
 # Sources are globbed so that adding a file to a module needs no edit here.
 set(PDCG_MODULES "" CACHE INTERNAL "pdcg module targets")
 
@@ -38,4 +38,38 @@ function(pdcg_add_module name)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   set(PDCG_MODULES ${PDCG_MODULES} ${_target} CACHE INTERNAL "pdcg module targets")
+endfunction()
+
+# pdcg_write_module_graph(<file>): writes the link properties of every module
+# target, the umbrella pdcg::pdcg and the pdcg executable to <file>, one line per
+# target: "target<TAB>kind<TAB>LINK_LIBRARIES<TAB>INTERFACE_LINK_LIBRARIES" (lists
+# ';'-separated, unevaluated), plus "option<TAB>PDCG_ENABLE_LAMMPS<TAB>ON|OFF".
+# Called deferred at the end of the top-level directory (src/CMakeLists.txt), so
+# every target_link_libraries call is included. Read by
+# tests/docs/check_module_graph.py.
+function(pdcg_write_module_graph file)
+  set(_out "")
+  foreach(_t IN LISTS PDCG_MODULES ITEMS pdcg_pdcg pdcg)
+    if(NOT TARGET ${_t})
+      continue()
+    endif()
+    get_target_property(_type ${_t} TYPE)
+    set(_link "")
+    if(NOT _type STREQUAL "INTERFACE_LIBRARY")
+      get_target_property(_link ${_t} LINK_LIBRARIES)
+    endif()
+    get_target_property(_iface ${_t} INTERFACE_LINK_LIBRARIES)
+    foreach(_v _link _iface)
+      if(NOT ${_v})
+        set(${_v} "")
+      endif()
+    endforeach()
+    string(APPEND _out "${_t}\t${_type}\t${_link}\t${_iface}\n")
+  endforeach()
+  if(PDCG_ENABLE_LAMMPS)
+    string(APPEND _out "option\tPDCG_ENABLE_LAMMPS\tON\n")
+  else()
+    string(APPEND _out "option\tPDCG_ENABLE_LAMMPS\tOFF\n")
+  endif()
+  file(WRITE ${file} "${_out}")
 endfunction()
