@@ -176,15 +176,21 @@ int run_trajectory(const Options& o) {
   return 0;
 }
 
-/// Path to a helper script: beside the installed executable (../share/pdcg) or in the source tree.
+/// Path to a helper script, relative to the executable: <prefix>/share/pdcg for an installed
+/// bin/pdcg, <build>/share/pdcg for the build tree's pdcg (copied there by CMake). Never the
+/// source tree: an installed or moved pdcg must not depend on where it was built from.
 std::string helper_script(const std::string& name) {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const auto installed = exe.parent_path().parent_path() / "share" / "pdcg" / name;
-    if (std::filesystem::exists(installed)) return installed.string();
-  }
-  return std::string(PDCG_SOURCE_DIR) + "/workflows/lib/" + name;
+  if (ec) throw pdcg::Error("cannot locate the pdcg executable (/proc/self/exe): " + ec.message());
+  const auto dir = exe.parent_path();
+  const std::filesystem::path candidates[] = {dir.parent_path() / "share" / "pdcg" / name,
+                                              dir / "share" / "pdcg" / name};
+  for (const auto& p : candidates)
+    if (std::filesystem::exists(p)) return p.string();
+  throw pdcg::Error(fmt::format("helper script {} not found (looked in {} and {}); reinstall pdcg",
+                                name, candidates[0].parent_path().string(),
+                                candidates[1].parent_path().string()));
 }
 
 void plot_csv(const std::string& csv, const std::string& png, const std::string& title) {

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Issue 5 acceptance through the CLI: LAMMPS MD of a 1D chain (atomistics/chain1d), measured
+# Dispersion acceptance through the CLI: LAMMPS MD of a 1D chain (atomistics/chain1d), measured
 # with `pdcg dispersion --trajectory`, compared with the closed form
 # ω² = 2[μ₁(1 − cos κ) + μ₂(1 − cos 2κ)] written by Python (independent of pdcg): every ridge
 # point within one frequency-resolution bin (the transform's resolution; reason for the tolerance).
-# Then the bad inputs of the issue.  Usage: dispersion_chain.sh /path/to/pdcg <source-dir>
+# Then bad inputs.  Usage: dispersion_chain.sh /path/to/pdcg <source-dir>
 set -euo pipefail
 pdcg=$1 src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -121,12 +121,18 @@ assert worst < 1e-12
 PY
 then echo "ok   model --compare error columns"; else echo "FAIL model --compare: $out"; fail=1; fi
 rm -f cmp.csv closed16.csv
+# --plot: the helper script is found next to the executable (<build>/share/pdcg), not in the
+# source tree; the PNG must decode
+"$pdcg" -q dispersion chain.h5 --direction 1,0,0 --nk 16 -o plotted.csv --plot plotted.png
+/usr/bin/python3 -c "import matplotlib.image as m; a = m.imread('plotted.png'); assert a.shape[0] > 100 and a.shape[1] > 100" \
+  && echo "ok   --plot PNG decodes" || { echo "FAIL --plot PNG"; fail=1; }
+rm -f plotted.csv plotted.png
 expect_error grid-and-path    '--direction and --grid|--path and --grid' chain.h5 --grid --path G-X -o x.csv
 expect_error grid-and-plot    '--plot.*no curve to plot' chain.h5 --grid --plot x.png -o x.csv
 expect_error path-K-on-chain  "--path.*path label unknown for this lattice.*'K'.*one of G, X for lattice chain" chain.h5 --path G-K -o x.csv
 expect_error path-Q           "--path.*path label unknown for this lattice.*'Q'.*one of G, X for lattice chain" chain.h5 --path G-X-Q -o x.csv
 expect_error path-bad-lattice "--lattice.*unknown lattice.*'fcc2'.*one of fcc, bcc, sc, hex, chain" chain.h5 --path G-X --lattice fcc2 --a 1 -o x.csv
-# issue 9 safeguard through the CLI: a compressed chain (rest length 1.1 at spacing 1) has
+# unstable-mode safeguard through the CLI: a compressed chain (rest length 1.1 at spacing 1) has
 # transverse ω² = −0.2(1 − cos κ) < 0: written as −√|ω²| (finite, no NaN) with a warning
 sed 's/^bond_coeff 1 0.5 1.0/bond_coeff 1 0.5 1.1/' potential.chain > compressed.chain
 "$pdcg" -q atoms2pd --input mu2_0.0/chain.data --potential compressed.chain --dimension 1 --boundary "p f f" -o compressed.h5

@@ -19,4 +19,10 @@ grep -q "consumer: pdcg $(cat "$build/VERSION" 2>/dev/null || echo '')" <<<"$out
 grep -q "round trip ok" <<<"$out"
 # the installed executable runs from the moved prefix too
 "$scratch/prefix-b/bin/pdcg" version | grep -q '^pdcg '
+# nothing installed points back into the source tree: no PDCG_SOURCE_DIR in the installed
+# configuration header, and the CLI's helper script is in the prefix
+if grep -q PDCG_SOURCE_DIR "$scratch/prefix-b/include/pdcg/config.hpp"; then
+  echo "install.consumer: the installed pdcg/config.hpp names the source tree"; exit 1
+fi
+test -f "$scratch/prefix-b/share/pdcg/plot_dispersion.py"
 echo "install.consumer: passed"
