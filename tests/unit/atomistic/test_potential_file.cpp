@@ -136,9 +136,10 @@ TEST(PotentialFile, MissingPotentialFile) {
 }
 
 TEST(PotentialFile, PotentialFilesFoundByNameInLammpsDirectory) {
-  // by name: found in $LAMMPS_POTENTIALS or the LAMMPS potentials directory
+  // by name: found in $LAMMPS_POTENTIALS or the LAMMPS potentials directory (the file says
+  // UNITS: metal, which LAMMPS requires)
   const auto s = read_potential_commands_from_string(
-      "pair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", "x");
+      "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", "x");
   EXPECT_EQ(s.ntypes, 1);
   EXPECT_TRUE(find_potential_file("Cu_mishin1.eam.alloy").has_value());
   EXPECT_FALSE(find_potential_file("surely/not/here.eam").has_value());
