@@ -105,10 +105,14 @@ void check_periodic_images(const atomistic::Atoms& atoms, const atomistic::Famil
         image_b = b;
       }
     }
-  // Half the closest contact inside the box: for any repulsive core (LJ: φ(σ/2) ≈ 4·10³ ε) an
-  // energy no configuration a simulation wrote can have, and far below the spread of closest
-  // contacts between a periodic crystal or liquid and its images (equal to those inside).
-  if (!std::isfinite(direct) || !(image < 0.5 * direct)) return;
+  // 0.7 of the closest contact inside the box: a repulsive core r⁻¹² makes that pair ≳ 70
+  // times as energetic as the closest contact (LJ: φ(0.7σ) ≈ 256 ε), which no configuration a
+  // simulation wrote has; the closest contacts between a periodic crystal or liquid and its
+  // images are those inside the box (an extreme over fewer pairs: if anything, larger).
+  constexpr double kOverlap = 0.7;
+  log::debug("{}: closest pair inside the box {:.6g}, through a periodic image {:.6g}", source,
+             direct, image);
+  if (!std::isfinite(direct) || !(image < kOverlap * direct)) return;
   const auto j = static_cast<std::size_t>(fam.neighbor[image_b]);
   const std::string what = fmt::format(
       "atom id {} and the image of atom id {} shifted by ({}, {}, {}) box vectors are {:.6g} "

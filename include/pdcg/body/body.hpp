@@ -154,9 +154,9 @@ struct DeltaBodyOptions {
 };
 
 /// Overlapping periodic images: the closest pair through a periodic image (an atom and an
-/// image of another atom or of itself, within the families) closer than half the closest pair
-/// inside the box — far inside the repulsive core, as a free cluster written into a box that
-/// only just holds it gives (the images of opposite faces land on each other). Throws
+/// image of another atom or of itself, within the families) closer than 0.7 times the closest
+/// pair inside the box — far inside the repulsive core, as a free cluster written into a box
+/// that only just holds it gives (the images of opposite faces land on each other). Throws
 /// InputError naming both atoms, the image shift and the fix (`boundary s s s` in the commands
 /// file, or --boundary "f f f") when `assumed`; logs a warning otherwise. Configurations
 /// without a pair inside the box (a one-atom cell) cannot be judged and pass.
