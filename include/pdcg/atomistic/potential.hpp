@@ -1,7 +1,7 @@
 /// \file
 /// Interatomic potentials as peridynamic constitutive models.
 ///
-/// Atom k carries the multibody energy ψ_k(Y⟨ξ_kj⟩, j ∈ family of k) (DESIGN.md §2.1). Its
+/// Atom k carries the multibody energy ψ_k(Y⟨ξ_kj⟩, j ∈ family of k) (docs/theory.md §1). Its
 /// Fréchet derivative is the force state t_kj = ∂ψ_k/∂Y⟨ξ_kj⟩, and the PD internal force
 /// f_k = Σ_j (t_kj − t_jk) equals the MD force −∂U/∂y_k exactly (U = Σ_k ψ_k).
 ///   pair potential φ(r):  ψ_k = ½ Σ_j φ(r_kj),  t_kj = ½ φ'(r) Y/r

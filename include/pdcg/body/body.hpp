@@ -1,5 +1,5 @@
 /// \file
-/// Peridynamic bodies made from atoms (DESIGN.md §2.1–2.4, docs/bodies.md).
+/// Peridynamic bodies made from atoms (docs/theory.md §1–4, docs/bodies.md).
 ///
 /// A Body is a nonhomogeneous PD body whose constitutive model IS the interatomic potential.
 /// It has an atomic layer — one point per atom k with reference position x_k, mass M_k, type,
