@@ -117,7 +117,18 @@ struct Funcfl {
   std::vector<double> frho, zr, rhor;  // 1-based
 };
 
-Funcfl read_funcfl(const std::string& name, const std::string& path) {
+/// Energy conversion factor LAMMPS applies to a potential file (utils::get_conversion_factor
+/// with the conversion PotentialFileReader picks): 1 unless the file's UNITS: tag is metal and
+/// the units real (23.060549 kcal/mol per eV) or the reverse. Mismatches LAMMPS refuses are
+/// refused earlier (read_potential_commands, check_file_units).
+double energy_conversion(const std::string& path, UnitStyle units) {
+  const std::string tag = potential_file_units(path);
+  if (tag == "metal" && units == UnitStyle::real) return 23.060549;
+  if (tag == "real" && units == UnitStyle::metal) return 1.0 / 23.060549;
+  return 1.0;
+}
+
+Funcfl read_funcfl(const std::string& name, const std::string& path, UnitStyle units) {
   TableReader rd(path);
   Funcfl f;
   f.file = name;
@@ -132,6 +143,12 @@ Funcfl read_funcfl(const std::string& name, const std::string& path) {
   rd.next_dvector(&f.frho[1], f.g.nrho, "F(rho)");
   rd.next_dvector(&f.zr[1], f.g.nr, "Z(r)");
   rd.next_dvector(&f.rhor[1], f.g.nr, "rho(r)");
+  // PairEAM::read_file: F scales with the energy, Z(r) with its square root (φ ∝ Z_i Z_j)
+  if (const double conv = energy_conversion(path, units); conv != 1.0) {
+    const double sqrt_conv = std::sqrt(conv);
+    for (int i = 1; i <= f.g.nrho; ++i) f.frho[static_cast<std::size_t>(i)] *= conv;
+    for (int j = 1; j <= f.g.nr; ++j) f.zr[static_cast<std::size_t>(j)] *= sqrt_conv;
+  }
   return f;
 }
 
@@ -144,7 +161,7 @@ struct Setfl {
   std::vector<std::vector<std::vector<double>>> z2r;   // [i][j<=i][1..nr]
 };
 
-Setfl read_setfl(const std::string& path, bool fs) {
+Setfl read_setfl(const std::string& path, bool fs, UnitStyle units) {
   TableReader rd(path);
   Setfl s;
   rd.skip_line();
@@ -178,6 +195,18 @@ Setfl read_setfl(const std::string& path, bool fs) {
   }
   for (std::size_t i = 0; i < static_cast<std::size_t>(ne); ++i)
     for (std::size_t j = 0; j <= i; ++j) rd.next_dvector(&s.z2r[i][j][1], s.g.nr, "r*phi(r)");
+  // Energies: F and r·φ × the conversion factor. PairEAMFS::read_file converts every table
+  // point; PairEAMAlloy::read_file loops `j < nrho`, `k < nr` and leaves the last point of F
+  // and r·φ unconverted. Both are reproduced (LAMMPS is the reference; the alloy quirk shows
+  // only where ρ̄ reaches the last interval of F or beyond, and near the cutoff of r·φ).
+  if (const double conv = energy_conversion(path, units); conv != 1.0) {
+    const int last_f = fs ? s.g.nrho : s.g.nrho - 1, last_z = fs ? s.g.nr : s.g.nr - 1;
+    for (auto& f : s.frho)
+      for (int j = 1; j <= last_f; ++j) f[static_cast<std::size_t>(j)] *= conv;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(ne); ++i)
+      for (std::size_t j = 0; j <= i; ++j)
+        for (int k = 1; k <= last_z; ++k) s.z2r[i][j][static_cast<std::size_t>(k)] *= conv;
+  }
   return s;
 }
 
@@ -291,7 +320,7 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
       std::size_t ifile = 0;
       while (ifile < files.size() && files[ifile].file != c.args[0]) ++ifile;
       if (ifile == files.size())
-        files.push_back(read_funcfl(c.args[0], resolve(spec, c, c.args[0])));
+        files.push_back(read_funcfl(c.args[0], resolve(spec, c, c.args[0]), spec.units));
       int count = 0;
       for (int i = ilo; i <= ihi; ++i)
         for (int j = std::max(jlo, i); j <= jhi; ++j)
@@ -403,7 +432,7 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
           .value(c.line)
           .expected("pair_coeff * * FILE followed by one element name (or NULL) per atom type (" +
                     std::to_string(t.ntypes) + ")");
-    const Setfl s = read_setfl(resolve(spec, c, c.args[0]), fs);
+    const Setfl s = read_setfl(resolve(spec, c, c.args[0]), fs, spec.units);
     const int ne = static_cast<int>(s.elements.size());
     for (int i = 1; i <= t.ntypes; ++i) {
       const std::string& el = c.args[static_cast<std::size_t>(i)];

@@ -72,7 +72,8 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
   const Eigen::Matrix3d Hinv = box.h_inverse();
   std::vector<Eigen::Vector3d> frac(n);
   for (std::size_t i = 0; i < n; ++i)
-    frac[i] = Hinv * (Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]) - box.lo);
+    frac[i] =
+        Hinv * (Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]) - box.lo);
 
   // Fractional range of the originals, then the margin where images can matter.
   Eigen::Vector3d smin = frac[0], smax = frac[0];
@@ -87,7 +88,8 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
   std::vector<Entry> entries;
   entries.reserve(n * 2);
   for (std::size_t i = 0; i < n; ++i)
-    entries.push_back({static_cast<std::int32_t>(i), {0, 0, 0},
+    entries.push_back({static_cast<std::int32_t>(i),
+                       {0, 0, 0},
                        Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2])});
   for (int a = -shells[0]; a <= shells[0]; ++a)
     for (int b = -shells[1]; b <= shells[1]; ++b)
@@ -97,10 +99,13 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
         const Eigen::Vector3d cart = H * sh;
         for (std::size_t i = 0; i < n; ++i) {
           const Eigen::Vector3d s = frac[i] + sh;
-          if ((s.array() < (smin - margin).array()).any() || (s.array() > (smax + margin).array()).any())
+          if ((s.array() < (smin - margin).array()).any() ||
+              (s.array() > (smax + margin).array()).any())
             continue;
-          entries.push_back({static_cast<std::int32_t>(i), {a, b, c},
-                             Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]) + cart});
+          entries.push_back(
+              {static_cast<std::int32_t>(i),
+               {a, b, c},
+               Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]) + cart});
         }
       }
 
@@ -150,10 +155,13 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     const std::int64_t ci = cell_of(p, 0), cj = cell_of(p, 1), ck = cell_of(p, 2);
     auto& out = lists[i];
     for (std::int64_t a = std::max<std::int64_t>(0, ci - 1); a <= std::min(nc[0] - 1, ci + 1); ++a)
-      for (std::int64_t b = std::max<std::int64_t>(0, cj - 1); b <= std::min(nc[1] - 1, cj + 1); ++b)
-        for (std::int64_t c = std::max<std::int64_t>(0, ck - 1); c <= std::min(nc[2] - 1, ck + 1); ++c) {
+      for (std::int64_t b = std::max<std::int64_t>(0, cj - 1); b <= std::min(nc[1] - 1, cj + 1);
+           ++b)
+        for (std::int64_t c = std::max<std::int64_t>(0, ck - 1); c <= std::min(nc[2] - 1, ck + 1);
+             ++c) {
           const std::int64_t id = (a * nc[1] + b) * nc[2] + c;
-          for (std::int64_t s = head[static_cast<std::size_t>(id)]; s < head[static_cast<std::size_t>(id + 1)]; ++s) {
+          for (std::int64_t s = head[static_cast<std::size_t>(id)];
+               s < head[static_cast<std::size_t>(id + 1)]; ++s) {
             const auto e = static_cast<std::size_t>(sorted[static_cast<std::size_t>(s)]);
             if (e == i) continue;
             if ((entries[e].pos - p).squaredNorm() < rc2)
@@ -182,9 +190,12 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     std::vector<std::vector<std::int32_t>> graph(n);
     for (const Bond& bd : *options.molecular_bonds) {
       const std::int32_t i = lookup(bd.atom1), j = lookup(bd.atom2);
-      const Eigen::Vector3d d(atoms.x[3 * static_cast<std::size_t>(j)] - atoms.x[3 * static_cast<std::size_t>(i)],
-                              atoms.x[3 * static_cast<std::size_t>(j) + 1] - atoms.x[3 * static_cast<std::size_t>(i) + 1],
-                              atoms.x[3 * static_cast<std::size_t>(j) + 2] - atoms.x[3 * static_cast<std::size_t>(i) + 2]);
+      const Eigen::Vector3d d(
+          atoms.x[3 * static_cast<std::size_t>(j)] - atoms.x[3 * static_cast<std::size_t>(i)],
+          atoms.x[3 * static_cast<std::size_t>(j) + 1] -
+              atoms.x[3 * static_cast<std::size_t>(i) + 1],
+          atoms.x[3 * static_cast<std::size_t>(j) + 2] -
+              atoms.x[3 * static_cast<std::size_t>(i) + 2]);
       const Eigen::Vector3d m = box.minimum_image_exact(d);
       const Eigen::Vector3d sh = Hinv * (m - d);
       const std::array<std::int32_t, 3> s{static_cast<std::int32_t>(std::lround(sh[0])),
@@ -239,6 +250,17 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
     fam.pair_factor.assign(nb, 1.0);
     fam.bond_type.assign(nb, 0);
   }
+  const Eigen::Vector3d half_length = 0.5 * box.lengths();
+  auto beyond_half_box = [&](std::size_t i, const Candidate& c) {
+    const auto j = static_cast<std::size_t>(c.j);
+    const Eigen::Vector3d d =
+        Eigen::Vector3d(atoms.x[3 * j] - atoms.x[3 * i], atoms.x[3 * j + 1] - atoms.x[3 * i + 1],
+                        atoms.x[3 * j + 2] - atoms.x[3 * i + 2]) +
+        H * Eigen::Vector3d(c.shift[0], c.shift[1], c.shift[2]);
+    for (int k = 0; k < 3; ++k)
+      if (box.periodic[static_cast<std::size_t>(k)] && std::abs(d[k]) > half_length[k]) return true;
+    return false;
+  };
   for (std::size_t i = 0; i < n; ++i) {
     auto b = static_cast<std::size_t>(fam.offset[i]);
     for (const auto& c : lists[i]) {
@@ -256,8 +278,12 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
         fam.shift[3 * b + static_cast<std::size_t>(k)] = static_cast<std::int8_t>(sk);
       }
       if (molecular) {
+        // LAMMPS weights a special partner (by atom id, any image) only when the pair passes
+        // Domain::minimum_image_check: every Cartesian component of the separation within half
+        // the box length along the periodic directions. A farther image within the cutoff is
+        // an ordinary neighbour (factor 1), as in every NPair build.
         auto it = special[i].find(c.j);
-        if (it != special[i].end()) fam.pair_factor[b] = it->second;
+        if (it != special[i].end() && !beyond_half_box(i, c)) fam.pair_factor[b] = it->second;
         for (auto& [bc, t] : bonded[i])
           if (bc == c) fam.bond_type[b] = t;
       }
@@ -268,7 +294,8 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
 #pragma omp parallel for schedule(static)
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
-    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[i]);
+         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
       const Candidate want{static_cast<std::int32_t>(i),
                            {-fam.shift[3 * b], -fam.shift[3 * b + 1], -fam.shift[3 * b + 2]}};
       const auto& l = lists[static_cast<std::size_t>(fam.neighbor[b])];
@@ -287,7 +314,8 @@ void deformed_bonds(const Families& fam, std::span<const double> y, const Eigen:
 #pragma omp parallel for schedule(static)
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
-    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[i]);
+         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
       const Eigen::Vector3d v = bond_vector(fam, y, hd, i, b);
       for (int k = 0; k < 3; ++k) out[3 * b + static_cast<std::size_t>(k)] = v[k];
     }
@@ -306,7 +334,8 @@ double force_states(const Potential& potential, const Families& fam, std::span<c
   // Neighbour types per bond, gathered once per call into a buffer owned by the caller
   // would avoid this allocation; it is O(bonds) ints and outside the per-atom loop.
   std::vector<int> ntype(fam.bonds());
-  for (std::size_t b = 0; b < fam.bonds(); ++b) ntype[b] = type[static_cast<std::size_t>(fam.neighbor[b])];
+  for (std::size_t b = 0; b < fam.bonds(); ++b)
+    ntype[b] = type[static_cast<std::size_t>(fam.neighbor[b])];
   double total = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : total)
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
@@ -331,7 +360,8 @@ void pd_forces(const Families& fam, std::span<const double> t, std::span<double>
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     double fx = 0, fy = 0, fz = 0;
-    for (auto b = static_cast<std::size_t>(fam.offset[i]); b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+    for (auto b = static_cast<std::size_t>(fam.offset[i]);
+         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
       const auto r = static_cast<std::size_t>(fam.reverse[b]);
       fx += t[3 * b] - t[3 * r];
       fy += t[3 * b + 1] - t[3 * r + 1];

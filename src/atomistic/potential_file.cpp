@@ -1,5 +1,7 @@
 #include "pdcg/atomistic/potential_file.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -161,6 +163,66 @@ bool style_takes_file(std::string_view style) {
   return !no_file.count(style);
 }
 
+bool is_eam_style(std::string_view style) {
+  return style == "eam" || style == "eam/alloy" || style == "eam/fs";
+}
+
+/// The units of every potential file named by pair_coeff against spec.units, as LAMMPS's
+/// utils::open_potential / PotentialFileReader: a file's `UNITS:` tag must equal the unit
+/// style, except metal ↔ real, which LAMMPS converts for the styles that support it (the
+/// native EAM styles convert exactly as LAMMPS, build_eam_tables). A file without a tag is
+/// used as it is, as LAMMPS does; for EAM files (DYNAMO tables are in eV and Å) that is worth a
+/// warning when the units are not metal.
+void check_file_units(const PotentialSpec& spec) {
+  const std::string units(to_string(spec.units));
+  const std::string where =
+      spec.units_line > 0
+          ? fmt::format("`units {}` ({}:{})", units, spec.source, spec.units_line)
+          : fmt::format("no `units` command in {}: LAMMPS's default lj", spec.source);
+  std::set<std::string> seen;
+  for (const auto& c : spec.pair_coeff) {
+    const std::string name = coeff_file_argument(spec, c);
+    if (name.empty() || !seen.insert(name).second) continue;
+    const auto path = find_potential_file(name);
+    if (!path) continue;  // reported where the file is read
+    const std::string tag = potential_file_units(*path);
+    const std::string style =
+        spec.pair_style.rfind("hybrid", 0) == 0 && !c.args.empty() ? c.args[0] : spec.pair_style;
+    if (tag.empty()) {
+      if (is_eam_style(style) && spec.units != UnitStyle::metal)
+        log::warn(
+            "{}:{}: {} declares no units (no UNITS: tag); EAM (DYNAMO) tables are in eV and "
+            "Angstrom, i.e. `units metal`, but {} — LAMMPS uses the numbers as they are, so does "
+            "pdcg",
+            spec.source, c.line_number, name, where);
+      continue;
+    }
+    if (tag == units) continue;
+    const bool convertible =
+        (tag == "metal" && units == "real") || (tag == "real" && units == "metal");
+    if (convertible) {
+      if (is_eam_style(style))
+        log::debug("{}:{}: converting {} from {} to {} units (energies x {}), as LAMMPS does",
+                   spec.source, c.line_number, name, tag, units,
+                   tag == "metal" ? "23.060549" : "1/23.060549");
+      continue;  // other styles: LAMMPS converts or refuses (embedded LAMMPS reports it)
+    }
+    throw InputError("potential file requires " + tag + " units but " + units + " units are in use")
+        .source(spec.source)
+        .line(c.line_number)
+        .key("pair_coeff")
+        .value(fmt::format("{} (UNITS: {}); {}", name, tag, where))
+        .expected(fmt::format("`units {}`{}", tag,
+                              tag == "metal"  ? " (or real, which LAMMPS converts to)"
+                              : tag == "real" ? " (or metal, which LAMMPS converts to)"
+                                              : ""))
+        .fix(spec.units_line > 0
+                 ? fmt::format("change line {} of {} to `units {}`", spec.units_line, spec.source,
+                               tag)
+                 : fmt::format("add `units {}` to {} (before pair_style)", tag, spec.source));
+  }
+}
+
 }  // namespace
 
 bool lammps_available() { return PDCG_ENABLE_LAMMPS != 0; }
@@ -181,6 +243,48 @@ std::optional<std::string> find_potential_file(std::string_view name) {
   const fs::path p = fs::path(PDCG_LAMMPS_POTENTIALS_DIR) / base;
   if (fs::is_regular_file(p, ec)) return p.string();
   return std::nullopt;
+}
+
+std::array<bool, 3> parse_boundary(std::string_view text, std::string_view source, long line,
+                                   std::string_view key) {
+  const auto w = split_blanks(text);
+  auto bad = [&](std::string_view problem, std::string_view value) {
+    return InputError(std::string(problem))
+        .source(source)
+        .line(line)
+        .key(key)
+        .value(value)
+        .expected(
+            "three boundary styles, one per direction x y z: p (periodic), f, s or m "
+            "(non-periodic), or a lo/hi pair such as fs; e.g. \"p p f\"")
+        .fix("see https://docs.lammps.org/boundary.html");
+  };
+  if (w.size() != 3) throw bad("a boundary needs three styles", text);
+  std::array<bool, 3> periodic{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::string_view f = w[k];
+    if (f.empty() || f.size() > 2) throw bad("bad boundary style", f);
+    for (char c : f)
+      if (c != 'p' && c != 'f' && c != 's' && c != 'm') throw bad("bad boundary style", f);
+    const char lo = f[0], hi = f.size() == 2 ? f[1] : f[0];
+    // Domain::set_boundary: "Both sides of boundary must be periodic"
+    if ((lo == 'p') != (hi == 'p')) throw bad("both sides of a periodic boundary must be p", f);
+    periodic[k] = lo == 'p';
+  }
+  return periodic;
+}
+
+std::string potential_file_units(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto w = split_blanks(line);
+    if (w.empty()) continue;  // TextFileReader::next_line skips blank lines
+    for (std::size_t i = 0; i + 1 < w.size(); ++i)
+      if (w[i] == "UNITS:") return std::string(w[i + 1]);
+    return {};
+  }
+  return {};
 }
 
 void parse_type_range(std::string_view token, int ntypes, int& lo, int& hi, std::string_view source,
@@ -328,8 +432,8 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     };
     bool accepted = true;
     static const std::set<std::string, std::less<>> kAccepted{
-        "units",       "atom_style", "mass",       "pair_style",   "pair_coeff",
-        "pair_modify", "bond_style", "bond_coeff", "special_bonds"};
+        "units",       "atom_style", "mass",       "pair_style",    "pair_coeff",
+        "pair_modify", "bond_style", "bond_coeff", "special_bonds", "boundary"};
     if (kAccepted.count(cmd) && c.text.find('$') != std::string::npos)
       throw err(c, cmd, "LAMMPS variables are not expanded in potential commands")
           .value(c.text)
@@ -338,6 +442,15 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     if (cmd == "units") {
       need(2, "units STYLE");
       spec.units = parse_unit_style(w[1], spec.source + ":" + std::to_string(c.line));
+      spec.units_line = c.line;
+    } else if (cmd == "boundary") {
+      need(4, "boundary X Y Z");
+      std::string args;
+      for (std::size_t k = 1; k < w.size(); ++k) args += (k > 1 ? " " : "") + w[k];
+      spec.periodic = parse_boundary(args, spec.source, c.line, cmd);
+      spec.boundary = args;
+      spec.boundary_line = c.line;
+      accepted = false;  // the configuration's property, not the interaction's: not replayed
     } else if (cmd == "atom_style") {
       need(2, "atom_style STYLE");
       spec.atom_style = w[1];
@@ -552,6 +665,7 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     for (int t = lo; t <= hi; ++t) spec.type_mass[static_cast<std::size_t>(t)] = m.value;
   }
   if (nt > 0) check_atom_types(spec, nt);
+  check_file_units(spec);
   return spec;
 }
 

@@ -322,17 +322,30 @@ struct BondTable {
   struct Coeff {
     double k = kNaN, r0 = kNaN, epsilon = 0, sigma = 0;
   };
-  std::vector<Coeff> c;  // index 1..nbondtypes
+  std::vector<Coeff> c;  // index 1..(largest bond type a bond_coeff names explicitly)
+  /// bond_coeff lines with a trailing wildcard (`*`, `N*`), in order: (N, coefficients). They
+  /// reach bond types beyond c (LAMMPS: up to the configuration's bond type count; the
+  /// potential does not know that count, so any type); the last one with N ≤ type wins.
+  std::vector<std::pair<int, Coeff>> open;
 
   bool active() const { return style != Style::none; }
 
+  const Coeff* coeff(int bt) const {
+    if (bt < 1) return nullptr;
+    if (bt < static_cast<int>(c.size())) return &c[static_cast<std::size_t>(bt)];
+    for (auto it = open.rbegin(); it != open.rend(); ++it)
+      if (bt >= it->first) return &it->second;
+    return nullptr;
+  }
+
   /// Energy of one bond of type `bt` at squared length rsq; writes fbond.
   double eval(int bt, double rsq, double& fbond) const {
-    if (bt < 1 || bt >= static_cast<int>(c.size())) {
+    const Coeff* bp = coeff(bt);
+    if (!bp) {
       fbond = kNaN;
-      return kNaN;  // bond type without coefficients: poisons the result visibly
+      return kNaN;  // bond type without coefficients (make_delta_body refuses those)
     }
-    const Coeff& b = c[static_cast<std::size_t>(bt)];
+    const Coeff& b = *bp;
     switch (style) {
       case Style::harmonic: {
         const double r = std::sqrt(rsq);
@@ -373,8 +386,9 @@ struct BondTable {
   /// including FENE's clamp of the log argument, where the derivative of the clamped
   /// term is 0).
   double dfbond(int bt, double rsq) const {
-    if (bt < 1 || bt >= static_cast<int>(c.size())) return kNaN;
-    const Coeff& b = c[static_cast<std::size_t>(bt)];
+    const Coeff* bp = coeff(bt);
+    if (!bp) return kNaN;
+    const Coeff& b = *bp;
     switch (style) {
       case Style::harmonic: {
         // fbond = −2k(r − r0)/r  →  d fbond/dr = −2k r0/r²
@@ -466,7 +480,8 @@ BondTable build_bonds(const PotentialSpec& spec) {
   bt.c.assign(static_cast<std::size_t>(maxtype + 1), {});
   for (const auto& c : spec.bond_coeff) {
     int lo, hi;
-    parse_type_range(c.i, maxtype, lo, hi, spec.source, c.line_number, "bond_coeff");
+    parse_type_range(c.i, 1 << 20, lo, hi, spec.source, c.line_number, "bond_coeff");
+    hi = std::min(hi, maxtype);  // a trailing wildcard reaches further through `open`
     BondTable::Coeff k;
     auto usage = [&](std::size_t n, std::string_view u) {
       if (c.args.size() != n)
@@ -488,6 +503,7 @@ BondTable build_bonds(const PotentialSpec& spec) {
       k.k = k.r0 = 0.0;
     }
     for (int t = lo; t <= hi; ++t) bt.c[static_cast<std::size_t>(t)] = k;
+    if (c.i.ends_with('*')) bt.open.emplace_back(lo, k);
   }
   for (std::size_t t = 1; t < bt.c.size(); ++t)
     if (std::isnan(bt.c[t].k))
@@ -580,8 +596,8 @@ class PairModel final : public Potential {
   /// images). Same operations per bond as the scalar loop, so the same forces; bonds beyond
   /// the cutoff (the families' skin) cost the law's arithmetic but no branch.
   template <bool kEnergy>
-  PDCG_TARGET_AVX2 double half_pair_simd(const HalfFamilies& h, std::int64_t k0, std::int64_t k1, const double* y,
-                        double* f) const {
+  PDCG_TARGET_AVX2 double half_pair_simd(const HalfFamilies& h, std::int64_t k0, std::int64_t k1,
+                                         const double* y, double* f) const {
     constexpr std::int64_t kChunk = 64;
     alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk], te[kChunk];
     const auto c = table_.v[static_cast<std::size_t>(ntypes_ + 2)];  // (1, 1)

@@ -1,11 +1,16 @@
 #include "pdcg/body/body.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
+#include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 #include "statistics_impl.hpp"
 
 namespace pdcg::body {
@@ -47,6 +52,95 @@ double Body::reference_volume() const {
     default:
       return std::abs(H.determinant());
   }
+}
+
+namespace {
+
+/// Every bond type of the configuration needs a bond_coeff line (LAMMPS: "All bond coeffs are
+/// not set"); `*` and `N*` reach every bond type the configuration has.
+void check_bond_types(const atomistic::PotentialSpec& spec,
+                      const std::vector<atomistic::Bond>& bonds, std::string_view source) {
+  constexpr int kOpen = 1 << 30;  // upper end of a trailing wildcard: any bond type
+  std::vector<std::pair<int, int>> covered;
+  for (const auto& c : spec.bond_coeff) {
+    int lo, hi;
+    atomistic::parse_type_range(c.i, kOpen, lo, hi, spec.source, c.line_number, "bond_coeff");
+    covered.emplace_back(lo, hi);
+  }
+  for (const auto& b : bonds) {
+    const bool ok = std::any_of(covered.begin(), covered.end(), [&](const auto& r) {
+      return b.type >= r.first && b.type <= r.second;
+    });
+    if (!ok)
+      throw InputError("a bond type of the configuration has no bond_coeff")
+          .source(source)
+          .key(fmt::format("Bonds (bond of atom ids {} and {})", b.atom1, b.atom2))
+          .value(fmt::format("bond type {}", b.type))
+          .expected(fmt::format("a bond_coeff line for bond type {} in {}", b.type, spec.source))
+          .fix(fmt::format("add `bond_coeff {} …` to {}", b.type, spec.source));
+  }
+}
+
+}  // namespace
+
+void check_periodic_images(const atomistic::Atoms& atoms, const atomistic::Families& fam,
+                           bool assumed, std::string_view source) {
+  const auto& p = atoms.box.periodic;
+  if (!p[0] && !p[1] && !p[2]) return;
+  const std::size_t n = fam.points();
+  double direct = std::numeric_limits<double>::infinity();
+  double image = std::numeric_limits<double>::infinity();
+  std::size_t image_k = 0, image_b = 0;
+  for (std::size_t k = 0; k < n; ++k)
+    for (auto b = static_cast<std::size_t>(fam.offset[k]);
+         b < static_cast<std::size_t>(fam.offset[k + 1]); ++b) {
+      const double r = atomistic::bond_vector(fam, atoms.x, k, b).norm();
+      const bool shifted =
+          fam.shift[3 * b] != 0 || fam.shift[3 * b + 1] != 0 || fam.shift[3 * b + 2] != 0;
+      if (!shifted) {
+        direct = std::min(direct, r);
+      } else if (r < image) {
+        image = r;
+        image_k = k;
+        image_b = b;
+      }
+    }
+  // 0.7 of the closest contact inside the box: a repulsive core r⁻¹² makes that pair ≳ 70
+  // times as energetic as the closest contact (LJ: φ(0.7σ) ≈ 256 ε), which no configuration a
+  // simulation wrote has; the closest contacts between a periodic crystal or liquid and its
+  // images are those inside the box (an extreme over fewer pairs: if anything, larger).
+  constexpr double kOverlap = 0.7;
+  log::debug("{}: closest pair inside the box {:.6g}, through a periodic image {:.6g}", source,
+             direct, image);
+  if (!std::isfinite(direct) || !(image < kOverlap * direct)) return;
+  const auto j = static_cast<std::size_t>(fam.neighbor[image_b]);
+  const std::string what = fmt::format(
+      "atom id {} and the image of atom id {} shifted by ({}, {}, {}) box vectors are {:.6g} "
+      "apart; the closest pair inside the box is {:.6g} apart",
+      atoms.id[image_k], atoms.id[j], int{fam.shift[3 * image_b]}, int{fam.shift[3 * image_b + 1]},
+      int{fam.shift[3 * image_b + 2]}, image, direct);
+  const std::string periodic_dirs =
+      fmt::format("{}{}{}", p[0] ? "x" : "", p[1] ? "y" : "", p[2] ? "z" : "");
+  if (!assumed) {
+    log::warn(
+        "{}: periodic images overlap the atoms (periodic along {}): {}. The energy will be "
+        "far from that of any physical configuration; check the box and the boundary",
+        source, periodic_dirs, what);
+    return;
+  }
+  throw InputError(
+      "periodic images overlap the atoms (nothing states the periodicity, so LAMMPS's default "
+      "`boundary p p p` applies): is this a free cluster?")
+      .source(source)
+      .key("boundary")
+      .value(what)
+      .expected(
+          "a periodic box that holds the configuration without overlapping its images, or "
+          "non-periodic directions")
+      .fix(
+          "a data file does not say which directions are periodic; for a free cluster add "
+          "`boundary s s s` to the potential commands file, or pass --boundary \"f f f\" (a "
+          "slab: \"p p f\"); for a crystal, check the box bounds");
 }
 
 Body make_delta_body(const atomistic::Atoms& atoms_in,
@@ -119,6 +213,30 @@ Body make_delta_body(const atomistic::Atoms& atoms_in,
           .fix("add `mass " + std::to_string(t) + " <value>` to the potential file");
     body.mass[i] = m;
   }
+  // Topology: a bond style needs the molecular bonds, which only data files carry.
+  if (!spec.bond_style.empty() && spec.bond_style != "zero" && atoms.bonds.empty())
+    throw InputError("the potential has a bond style but the configuration carries no bonds")
+        .source(spec.source)
+        .line(spec.bond_style_line)
+        .key("bond_style")
+        .value(spec.bond_style + " with " +
+               (options.source.empty() ? std::string("the configuration") : options.source) +
+               ", which has no Bonds")
+        .expected(
+            "a configuration with its molecular bonds: a LAMMPS data file with a Bonds section "
+            "(dumps carry no bonds)")
+        .fix(
+            "build the body from the data file LAMMPS's write_data wrote for this system (it "
+            "has the Bonds section); if the system has no bonds, remove bond_style and "
+            "bond_coeff");
+  if (!atoms.bonds.empty()) {
+    if (spec.bond_style.empty())
+      // LAMMPS (Force::init) warns the same way and runs: special_bonds still weight the pairs
+      log::warn("{}: bonds are defined but no bond style is set ({}): the bonds add no energy",
+                options.source, spec.source);
+    else
+      check_bond_types(spec, atoms.bonds, options.source);
+  }
   atomistic::FamilyOptions fo;
   fo.cutoff = options.cutoff > 0.0 ? options.cutoff : potential->cutoff();
   if (!(fo.cutoff > 0.0) && !atoms.bonds.empty())
@@ -128,6 +246,7 @@ Body make_delta_body(const atomistic::Atoms& atoms_in,
     fo.special_lj = spec.special_lj;
   }
   body.families = atomistic::build_families(atoms, fo);
+  check_periodic_images(atoms, body.families, options.periodicity_assumed, options.source);
   body.base_horizon = fo.cutoff;
   body.potential = potential;
   body.base_potential = potential;

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -13,8 +14,10 @@
 #include "pdcg/atomistic/atoms.hpp"
 #include "pdcg/atomistic/data_file.hpp"
 #include "pdcg/atomistic/dump_reader.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/body/body.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 #include "pdcg/core/parse.hpp"
 
 namespace pdcg::cli::body_util {
@@ -85,6 +88,60 @@ inline std::vector<atomistic::Atoms> read_configurations(const std::string& path
   const auto r = parse_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path);
   for (std::int64_t f = r.first; f < r.last; f += r.step)
     out.push_back(dump.frame(static_cast<std::size_t>(f)));
+  return out;
+}
+
+/// "p p f" for a periodicity.
+inline std::string boundary_text(const std::array<bool, 3>& periodic) {
+  return fmt::format("{} {} {}", periodic[0] ? 'p' : 'f', periodic[1] ? 'p' : 'f',
+                     periodic[2] ? 'p' : 'f');
+}
+
+/// The periodicity a body is built with and whether anything stated it.
+struct Periodicity {
+  std::array<bool, 3> periodic{true, true, true};
+  bool assumed = false;  ///< nothing stated it: LAMMPS's default p p p for a data file
+};
+
+/// Periodicity of the configuration `input` (its box's flags: the dump header's, or the data
+/// reader's all-periodic default), decided as LAMMPS users write it: `--boundary` (the option
+/// text, empty if not given) wins, then the `boundary` command of the commands file (as in a
+/// LAMMPS deck, where read_dump keeps the script's boundary), then the dump header's
+/// ITEM: BOX BOUNDS flags; a data file says nothing, so without the first two LAMMPS's default
+/// p p p is assumed (and checked for overlapping images when the body is built). A source that
+/// wins over a different statement says so in a warning.
+inline Periodicity resolve_periodicity(const std::string& input,
+                                       const std::array<bool, 3>& file_periodic,
+                                       const atomistic::PotentialSpec& spec,
+                                       const std::string& option) {
+  const bool from_dump = atomistic::detect_atom_file_kind(input) != atomistic::AtomFileKind::data;
+  Periodicity out;
+  std::string stated;  // who said the current value
+  if (from_dump) {
+    out.periodic = file_periodic;
+    stated = fmt::format("the dump header of {} (ITEM: BOX BOUNDS, {})", input,
+                         boundary_text(file_periodic));
+  }
+  if (spec.periodic) {
+    if (!stated.empty() && *spec.periodic != out.periodic)
+      log::warn("`boundary {}` ({}:{}) wins over {}", spec.boundary, spec.source,
+                spec.boundary_line, stated);
+    out.periodic = *spec.periodic;
+    stated = fmt::format("`boundary {}` ({}:{})", spec.boundary, spec.source, spec.boundary_line);
+  }
+  if (!option.empty()) {
+    const auto p = atomistic::parse_boundary(option, "--boundary", 0, "--boundary");
+    if (!stated.empty() && p != out.periodic)
+      log::warn("--boundary \"{}\" wins over {}", option, stated);
+    out.periodic = p;
+    stated = "--boundary";
+  }
+  out.assumed = stated.empty();
+  if (out.assumed)
+    log::debug(
+        "{}: a data file does not say which directions are periodic; LAMMPS's default "
+        "`boundary p p p` applies (give `boundary` in the commands file or --boundary)",
+        input);
   return out;
 }
 

@@ -1,7 +1,9 @@
 /// `pdcg atoms2pd --input FILE [--frame N | --frames A:B[:S]] --potential FILE
 ///   --density delta|statistical [--statistics gaussian|empirical] [--order N | --samples N]
 ///   [--width W] [--dimension D] [--boundary "p p f"] -o body.h5`
-/// Builds a PD body from atoms (docs/theory.md §1–2).
+/// Builds a PD body from atoms (docs/theory.md §1–2). Periodicity: --boundary, else the
+/// commands file's `boundary`, else the dump header, else (data file) LAMMPS's default p p p,
+/// checked for overlapping images (docs/atomistic-input.md, "Periodicity").
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -50,28 +52,14 @@ int run(const Options& o) {
   std::string dump_units;
   std::vector<atomistic::Atoms> frames =
       bu::read_configurations(o.input, o.frame, o.frames, &dump_units);
-  if (!o.boundary.empty()) {
-    const auto tok = split_blanks(o.boundary);
-    if (tok.size() != 3)
-      throw InputError("bad boundary")
-          .source("--boundary")
-          .value(o.boundary)
-          .expected("three of p/f, e.g. \"p p f\"");
-    for (auto& f : frames)
-      for (std::size_t k = 0; k < 3; ++k) {
-        if (tok[k] != "p" && tok[k] != "f")
-          throw InputError("bad boundary flag")
-              .source("--boundary")
-              .value(tok[k])
-              .expected("p (periodic) or f (free)");
-        f.box.periodic[k] = tok[k] == "p";
-      }
-  }
   atomistic::Atoms& ref = frames.front();
   int ntypes = ref.ntypes;
   if (ntypes == 0 && !ref.type.empty())
     ntypes = *std::max_element(ref.type.begin(), ref.type.end());
   atomistic::PotentialSpec spec = atomistic::read_potential_commands(o.potential, ntypes);
+  const bu::Periodicity periodicity =
+      bu::resolve_periodicity(o.input, ref.box.periodic, spec, o.boundary);
+  for (auto& f : frames) f.box.periodic = periodicity.periodic;
   if (!dump_units.empty() && dump_units != to_string(spec.units))
     throw InputError("the dump and the potential use different units")
         .source(o.input)
@@ -83,6 +71,7 @@ int run(const Options& o) {
   body::DeltaBodyOptions opt;
   opt.dimension = o.dimension;
   opt.source = o.input;
+  opt.periodicity_assumed = periodicity.assumed;
   if (o.family_cutoff) {
     if (!(*o.family_cutoff >= pot->cutoff()))
       throw InputError("family cutoff below the potential's cutoff")
@@ -152,8 +141,9 @@ pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("--input", o->input, "LAMMPS dump or data file")->required();
   sub->add_option("--frame", o->frame,
                   "Frame of a dump (0-based; negative from the end; default 0)");
-  sub->add_option("--frames", o->frames,
-                  "Frames A:B[:S] for statistical densities (B inclusive, 0-based, negative from the end)");
+  sub->add_option(
+      "--frames", o->frames,
+      "Frames A:B[:S] for statistical densities (B inclusive, 0-based, negative from the end)");
   sub->add_option("--potential", o->potential, "LAMMPS commands defining the interaction")
       ->required();
   sub->add_option("--density", o->density, "delta | statistical (default delta)");
@@ -166,7 +156,9 @@ pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
       "Family radius (default: the potential cutoff); a skin keeps pairs that come within the "
       "cutoff in deformed configurations");
   sub->add_option("--dimension", o->dimension, "Dimension of the body (1, 2, 3; default 3)");
-  sub->add_option("--boundary", o->boundary, "Override periodicity, e.g. \"p p f\"");
+  sub->add_option("--boundary", o->boundary,
+                  "Periodicity x y z as LAMMPS's boundary command, e.g. \"p p f\" (p periodic; "
+                  "f, s, m free); wins over a boundary command and the dump header");
   sub->add_option("-o,--output", o->output, "Output model file")->required();
   sub->footer(
       "Examples:\n  pdcg atoms2pd --input dump.lammpstrj --frame 0 --potential lj.in --density "

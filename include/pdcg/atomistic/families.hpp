@@ -14,7 +14,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -34,8 +33,8 @@ struct Families {
   /// index of the bond j → k; int32: at most 2³¹ − 1 bonds in all (InputError beyond,
   /// ≈ 4·10⁷ atoms at 54 bonds per atom)
   std::vector<std::int32_t> reverse;
-  std::vector<double> pair_factor;    ///< per bond, special_bonds factor; empty = all 1
-  std::vector<int> bond_type;         ///< per bond, molecular bond type (0 = none); empty = none
+  std::vector<double> pair_factor;  ///< per bond, special_bonds factor; empty = all 1
+  std::vector<int> bond_type;       ///< per bond, molecular bond type (0 = none); empty = none
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();  ///< reference box matrix (periodic shifts)
 
   std::size_t points() const { return offset.empty() ? 0 : offset.size() - 1; }
@@ -82,9 +81,14 @@ inline void family_bond_vectors(const Families& f, std::span<const double> x, st
 std::vector<double> bond_vectors(const Families& f, std::span<const double> x);
 
 struct FamilyOptions {
-  double cutoff = 0.0;                  ///< bonds with |ξ| < cutoff
+  double cutoff = 0.0;                                 ///< bonds with |ξ| < cutoff
   const std::vector<Bond>* molecular_bonds = nullptr;  ///< added regardless of length
-  std::array<double, 3> special_lj{1.0, 1.0, 1.0};     ///< pair factor for 1-2, 1-3, 1-4 partners
+  /// Pair factor for 1-2, 1-3, 1-4 partners (by atom, found through the molecular bonds). As in
+  /// LAMMPS's neighbour lists it applies to an image of a partner only when every Cartesian
+  /// component of the separation along a periodic direction is within half the box length
+  /// (Domain::minimum_image_check); farther images within the cutoff are ordinary pairs
+  /// (factor 1). Boxes shorter than twice the cutoff have such images.
+  std::array<double, 3> special_lj{1.0, 1.0, 1.0};
 };
 
 /// Builds the families of every atom with a cell list (O(N)); periodic directions of
@@ -100,9 +104,9 @@ void deformed_bonds(const Families& families, std::span<const double> y,
                     const Eigen::Matrix3d& h_deformed, std::span<double> bond_out);
 
 /// ψ_k for every atom and t_b for every bond (OpenMP over atoms). Returns Σ_k ψ_k.
-double force_states(const Potential& potential, const Families& families,
-                    std::span<const int> type, std::span<const double> bonds,
-                    std::span<double> psi_out, std::span<double> t_out);
+double force_states(const Potential& potential, const Families& families, std::span<const int> type,
+                    std::span<const double> bonds, std::span<double> psi_out,
+                    std::span<double> t_out);
 
 /// f_k = Σ_{b∈k} (t_b − t_reverse[b]) (OpenMP over atoms, gather: no races).
 void pd_forces(const Families& families, std::span<const double> t, std::span<double> f_out);

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,8 +36,14 @@ struct CoeffLine {
 /// The LAMMPS commands that define an interaction model, as the user wrote them
 /// (a potential file or the relevant lines of an input deck).
 struct PotentialSpec {
-  std::string source;  ///< file the commands came from (for messages)
-  UnitStyle units = UnitStyle::lj;
+  std::string source;               ///< file the commands came from (for messages)
+  UnitStyle units = UnitStyle::lj;  ///< LAMMPS's default when there is no `units` command
+  long units_line = 0;              ///< line of the `units` command (0 = none: the lj default)
+  /// `boundary` command (https://docs.lammps.org/boundary.html) as periodicity per direction
+  /// (p periodic; f, s, m and their lo/hi pairs non-periodic); nullopt = no boundary command.
+  std::optional<std::array<bool, 3>> periodic;
+  std::string boundary;    ///< the boundary command's arguments as written ("s s s")
+  long boundary_line = 0;  ///< its line in `source` (0 = none)
   std::string atom_style = "atomic";
   /// `mass` commands: type_mass[t] for t = 1..ntypes (index 0 unused), NaN if unset.
   std::vector<double> type_mass;
@@ -89,10 +96,10 @@ struct EamView {
 /// reach through a periodic image, so Y = y_j − y_k with no per-bond shift; the caller fills
 /// the ghost positions before and adds the ghost forces to their points after the kernel.
 struct HalfFamilies {
-  const std::int64_t* offset = nullptr;  ///< N+1
+  const std::int64_t* offset = nullptr;    ///< N+1
   const std::int32_t* neighbor = nullptr;  ///< per half bond: index into points and ghosts
   const int* type = nullptr;               ///< atom types (1-based) of points and ghosts
-  const double* factor = nullptr;  ///< per half bond special_bonds factor; nullptr = all 1
+  const double* factor = nullptr;          ///< per half bond special_bonds factor; nullptr = all 1
   bool energy = true;  ///< false: forces only (LAMMPS's eflag = 0), the kernel returns 0
 };
 

@@ -6,15 +6,23 @@
 /// (https://docs.lammps.org/Commands_parse.html):
 /// `#` starts a comment (outside quotes), a trailing `&` continues a command on the next line,
 /// words are separated by blanks. Accepted commands: `units`, `atom_style`, `mass`,
-/// `pair_style`, `pair_coeff`, `pair_modify`, `bond_style`, `bond_coeff`, `special_bonds`.
+/// `pair_style`, `pair_coeff`, `pair_modify`, `bond_style`, `bond_coeff`, `special_bonds`,
+/// and `boundary` (the periodicity of the configuration, PotentialSpec::periodic).
 /// `create_box N …` and `read_data FILE` (its header's "atom types") only give the number of
 /// atom types; every other command is ignored and listed in one log note.
+///
+/// Units (https://docs.lammps.org/units.html): without a `units` command the style is lj, as in
+/// LAMMPS. A potential file whose first line carries a `UNITS:` tag (all of LAMMPS's
+/// distributed files do) is checked as utils::open_potential does: the same units, or metal ↔
+/// real, which the native EAM styles convert as LAMMPS does (energies × 23.060549); any other
+/// combination is an InputError naming the file, its units and the fix.
 ///
 /// Potential files named in `pair_coeff` are looked up like LAMMPS does (utils::open_potential):
 /// the path as given, then the file name inside $LAMMPS_POTENTIALS, then inside
 /// PDCG_LAMMPS_POTENTIALS_DIR (pdcg/config.hpp, Debian: /usr/share/lammps/potentials).
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -40,6 +48,17 @@ PotentialSpec read_potential_commands_from_string(std::string_view text,
 /// configuration declares) and sets spec.ntypes. Throws InputError naming the file and line of
 /// the first command with a type outside 1..ntypes.
 void check_atom_types(PotentialSpec& spec, int ntypes);
+
+/// Periodicity of the three arguments of a LAMMPS `boundary` command (Domain::set_boundary):
+/// each is one of p, f, s, m or a lo/hi pair of them (e.g. "fs"); p is periodic and must then
+/// be on both sides. `text` holds the three arguments ("p p f"). Throws InputError naming
+/// `source`, `line` and `key` for anything else.
+std::array<bool, 3> parse_boundary(std::string_view text, std::string_view source, long line,
+                                   std::string_view key);
+
+/// Unit style a potential file declares in its first non-blank line (`UNITS: metal`, as
+/// LAMMPS's utils::get_potential_units reads it); empty if it declares none.
+std::string potential_file_units(const std::string& path);
 
 /// Finds a potential file as LAMMPS does; nullopt if none of the places holds it.
 std::optional<std::string> find_potential_file(std::string_view name);

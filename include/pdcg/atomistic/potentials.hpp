@@ -13,9 +13,11 @@
 ///   eam/alloy  DYNAMO setfl file (PairEAMAlloy)
 ///   eam/fs     Finnis–Sinclair setfl file, ρ_ij per element pair (PairEAMFS)
 /// EAM tables are converted and splined exactly as PairEAM::file2array/array2spline/interpolate
-/// and evaluated with the coefficient formulas of PairEAM::compute.
-/// ψ_k = ½ Σ_j s_kj φ(r_kj) for pair styles (s_kj the special_bonds lj factor; LAMMPS drops
-/// pairs with s = 0 from its neighbour lists), ψ_k = F_k(ρ̄_k) + ½ Σ_j φ(r_kj) for EAM, with
+/// and evaluated with the coefficient formulas of PairEAM::compute; in `units real` a file
+/// tagged `UNITS: metal` is converted as the LAMMPS readers convert it (docs/potentials.md).
+/// ψ_k = ½ Σ_j s_kj φ(r_kj) for pair styles (s_kj the special_bonds lj factor of the minimum
+/// image of a special partner, 1 for its farther images; LAMMPS drops pairs with s = 0 from
+/// its neighbour lists), ψ_k = F_k(ρ̄_k) + ½ Σ_j φ(r_kj) for EAM, with
 /// F extended linearly beyond ρ_max as LAMMPS does.
 ///
 /// Native bond styles (https://docs.lammps.org/bond_style.html), ψ_k += ½ E_b(r_kj) for every

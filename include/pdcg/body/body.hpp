@@ -146,12 +146,30 @@ struct DeltaBodyOptions {
   /// Cutoff for the families; 0 = the potential's cutoff.
   double cutoff = 0.0;
   std::string source;  ///< configuration file name (messages, provenance)
+  /// True when nothing stated the periodicity of atoms.box (a data file, no `boundary` command,
+  /// no --boundary): LAMMPS's default `boundary p p p` is assumed, and a periodic box whose
+  /// images overlap the atoms is refused (check_periodic_images). False: the periodicity was
+  /// stated (boundary command, dump header, option) and an overlap only warns.
+  bool periodicity_assumed = false;
 };
+
+/// Overlapping periodic images: the closest pair through a periodic image (an atom and an
+/// image of another atom or of itself, within the families) closer than 0.7 times the closest
+/// pair inside the box — far inside the repulsive core, as a free cluster written into a box
+/// that only just holds it gives (the images of opposite faces land on each other). Throws
+/// InputError naming both atoms, the image shift and the fix (`boundary s s s` in the commands
+/// file, or --boundary "f f f") when `assumed`; logs a warning otherwise. Configurations
+/// without a pair inside the box (a one-atom cell) cannot be judged and pass.
+void check_periodic_images(const atomistic::Atoms& atoms, const atomistic::Families& families,
+                           bool assumed, std::string_view source);
 
 /// Builds a delta body from one configuration. Masses come from atoms.mass_of (per-atom or per
 /// type, the atoms' type_mass filled in from the spec's `mass` commands when the atoms have
 /// none). Throws InputError when an atom type is not covered by the potential, when a mass is
-/// missing, or when the configuration is empty.
+/// missing, when the configuration is empty, when the spec has a bond style (other than zero)
+/// but the configuration carries no molecular bonds (a dump, a data file without a Bonds
+/// section), when a bond type has no bond_coeff, and when periodic images overlap the atoms in
+/// an assumed-periodic box (check_periodic_images).
 Body make_delta_body(const atomistic::Atoms& atoms,
                      std::shared_ptr<const atomistic::Potential> potential,
                      atomistic::PotentialSpec spec, const DeltaBodyOptions& options = {});

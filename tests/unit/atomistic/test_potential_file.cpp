@@ -136,9 +136,10 @@ TEST(PotentialFile, MissingPotentialFile) {
 }
 
 TEST(PotentialFile, PotentialFilesFoundByNameInLammpsDirectory) {
-  // by name: found in $LAMMPS_POTENTIALS or the LAMMPS potentials directory
+  // by name: found in $LAMMPS_POTENTIALS or the LAMMPS potentials directory (the file says
+  // UNITS: metal, which LAMMPS requires)
   const auto s = read_potential_commands_from_string(
-      "pair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", "x");
+      "units metal\npair_style eam/alloy\npair_coeff * * Cu_mishin1.eam.alloy Cu\n", "x");
   EXPECT_EQ(s.ntypes, 1);
   EXPECT_TRUE(find_potential_file("Cu_mishin1.eam.alloy").has_value());
   EXPECT_FALSE(find_potential_file("surely/not/here.eam").has_value());
@@ -210,4 +211,78 @@ TEST(PotentialFile, WildcardMassesWaitForTheTypeCount) {
   EXPECT_EQ(s.type_mass[3], 2.0);
   PotentialSpec t = read_potential_commands_from_string("mass 3 1.0\n", "m.in");
   EXPECT_THROW(check_atom_types(t, 2), pdcg::InputError);
+}
+
+// `boundary` as LAMMPS's Domain::set_boundary reads it: p periodic (on both sides), f, s, m
+// and lo/hi pairs non-periodic; kept as the configuration's periodicity, not replayed.
+TEST(PotentialFile, BoundaryCommand) {
+  auto s = read_potential_commands_from_string(
+      "units lj\nboundary p fs m\npair_style lj/cut 2.5\npair_coeff * * 1 1\n", "b.in", 1);
+  ASSERT_TRUE(s.periodic.has_value());
+  EXPECT_EQ(*s.periodic, (std::array<bool, 3>{true, false, false}));
+  EXPECT_EQ(s.boundary, "p fs m");
+  EXPECT_EQ(s.boundary_line, 2);
+  for (const auto& l : s.lines) EXPECT_EQ(l.find("boundary"), std::string::npos) << l;
+  // a full deck: the last boundary before read_data
+  s = read_potential_commands_from_string(
+      "units lj\nboundary s s s\nread_data x.data\npair_style lj/cut 2.5\npair_coeff * * 1 1\n",
+      "deck.in", 1);
+  EXPECT_EQ(*s.periodic, (std::array<bool, 3>{false, false, false}));
+  // none: unknown (LAMMPS's default p p p is decided by the caller)
+  s = read_potential_commands_from_string("pair_style lj/cut 2.5\npair_coeff * * 1 1\n", "x", 1);
+  EXPECT_FALSE(s.periodic.has_value());
+  for (const char* bad : {"boundary p p\n", "boundary p p x\n", "boundary pf p p\n",
+                          "boundary fp p p\n", "boundary ppp p p\n"}) {
+    const auto e =
+        input_error([&] { (void)read_potential_commands_from_string(bad, "bad.in", 1); });
+    EXPECT_EQ(e.line_number(), 1) << bad;
+    EXPECT_NE(std::string(e.what()).find("boundary"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(parse_boundary("p p f", "--boundary", 0, "--boundary"),
+            (std::array<bool, 3>{true, true, false}));
+  EXPECT_THROW((void)parse_boundary("p p", "--boundary", 0, "--boundary"), pdcg::InputError);
+}
+
+// Units of potential files as LAMMPS's utils::open_potential: Debian's EAM files say
+// `UNITS: metal`; lj (also LAMMPS's default without `units`) and si are refused, real is
+// converted; files without a tag are used as they are.
+TEST(PotentialFile, PotentialFileUnitsAsLammps) {
+  const auto cu = find_potential_file("Cu_u3.eam");
+  ASSERT_TRUE(cu.has_value());
+  EXPECT_EQ(potential_file_units(*cu), "metal");
+  EXPECT_EQ(potential_file_units(*find_potential_file("CuNi.eam.alloy")), "metal");
+  auto e = input_error([&] {
+    (void)read_potential_commands_from_string("pair_style eam\npair_coeff 1 1 Cu_u3.eam\n",
+                                              "nounits.in", 1);
+  });
+  EXPECT_EQ(e.line_number(), 2);
+  EXPECT_NE(std::string(e.what()).find("requires metal units but lj units are in use"),
+            std::string::npos)
+      << e.what();
+  EXPECT_NE(std::string(e.what()).find("add `units metal` to nounits.in"), std::string::npos)
+      << e.what();
+  e = input_error([&] {
+    (void)read_potential_commands_from_string(
+        "units si\npair_style eam/fs\npair_coeff * * Fe_mm.eam.fs Fe\n", "si.in", 1);
+  });
+  EXPECT_NE(std::string(e.what()).find("change line 1 of si.in to `units metal`"),
+            std::string::npos)
+      << e.what();
+  // any style, not only EAM: LAMMPS converts only between metal and real
+  e = input_error([&] {
+    (void)read_potential_commands_from_string(
+        "units lj\npair_style tersoff\npair_coeff * * Si.tersoff Si\n", "t.in", 1);
+  });
+  EXPECT_NE(std::string(e.what()).find("Si.tersoff (UNITS: metal)"), std::string::npos) << e.what();
+  for (const char* u : {"metal", "real"})
+    EXPECT_NO_THROW((void)read_potential_commands_from_string(
+        std::string("units ") + u + "\npair_style eam/alloy\npair_coeff * * CuNi.eam.alloy Cu Ni\n",
+        "ok.in", 2))
+        << u;
+  // no tag: used as it is (LAMMPS does the same), in any units
+  const std::string untagged = write_tmp("pdcg_untagged.eam", "a funcfl file without tags\n");
+  EXPECT_EQ(potential_file_units(untagged), "");
+  EXPECT_NO_THROW((void)read_potential_commands_from_string(
+      "pair_style eam\npair_coeff 1 1 " + untagged + "\n", "untagged.in", 1));
+  std::filesystem::remove(untagged);
 }

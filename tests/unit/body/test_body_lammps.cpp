@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <tuple>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -151,4 +153,83 @@ TEST(BodyVsLammps, NativeStylesPeriodicTriclinicAndFree) {
     if (!c.chains) fr = ball(fcc(4, c.a, 0.04, c.ntypes, ++seed), 1.6 * c.a);
     compare(c.commands, fr, (std::string(c.name) + " free").c_str());
   }
+}
+
+// Periodic boxes smaller than twice the cutoff: a special partner (by atom id) is weighted only
+// at its minimum image; its other images within the cutoff are ordinary pairs, as in LAMMPS's
+// neighbour lists (Domain::minimum_image_check). Two fcc cells of the LJ lattice (3.12 < 2·2.5)
+// with 4-bead chains and special_bonds lj 0 0.5 0.8: the chains' images are within the cutoff.
+TEST(BodyVsLammps, SpecialBondsAtImagesInSmallBoxes) {
+  Atoms per = fcc(2, 1.5599, 0.04, 1, 7);
+  add_chains(per);
+  compare(kHarmonic, per, "harmonic, 2 cells");
+  Atoms tri = per;
+  shear(tri, 0.4, -0.25, 0.3);
+  compare(kHarmonic, tri, "harmonic, 2 cells, triclinic");
+  compare(kFene, per, "fene, 2 cells");
+}
+
+// EAM files (UNITS: metal) in real units: LAMMPS converts the energies (× 23.060549; funcfl:
+// Z(r) × its square root). Debian's files, and tables written here whose densities run past
+// ρ_max, where eam/alloy's conversion leaves the last point of F unconverted (PairEAMAlloy
+// loops j < nrho) while eam and eam/fs convert every point: pdcg does as LAMMPS does.
+TEST(BodyVsLammps, EamInRealUnitsConvertedAsLammps) {
+  const auto real = [](std::string commands) {
+    commands.replace(commands.find("units metal"), 11, "units real");
+    return commands;
+  };
+  unsigned seed = 300;
+  for (const auto& [name, commands, a, ntypes] : {std::tuple{"eam", kEam, 3.615, 1},
+                                                  {"eam/alloy", kAlloy, 3.85, 2},
+                                                  {"eam/fs", kFs, 3.9, 2}}) {
+    const Atoms per = fcc(3, a, 0.04, ntypes, ++seed);
+    compare(real(commands), per, (std::string(name) + ", real").c_str());
+  }
+  // tables with a small ρ_max (1.95): 12 neighbours at 2.556 Å give ρ̄ ≈ 33, far beyond it
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("pdcg_eam_real_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const int nrho = 40, nr = 200;
+  const double drho = 0.05, dr = 0.025, cut = 4.95;
+  auto block = [](std::ofstream& out, const std::vector<double>& v) {
+    out.precision(17);
+    for (std::size_t i = 0; i < v.size(); ++i) out << v[i] << (i % 5 == 4 ? "\n" : " ");
+    out << "\n";
+  };
+  std::vector<double> F(nrho), rho(nr), z2r(nr), Z(nr);
+  for (int i = 0; i < nrho; ++i) F[i] = -std::sqrt(1 + i * drho) + 0.3 * i * drho;
+  for (int i = 0; i < nr; ++i) {
+    const double r = i * dr;
+    rho[i] = 3.0 * std::exp(-1.5 * (r - 2.5));
+    const double s = std::max(0.0, 1 - r / cut);
+    z2r[i] = r * 0.5 * (std::exp(-2 * (r - 2.5)) - 2 * std::exp(-(r - 2.5))) * s * s;
+    Z[i] = 2.0 * std::exp(-1.2 * r) + 0.3;
+  }
+  for (const char* ext : {"eam.alloy", "eam.fs"}) {
+    std::ofstream out(dir / (std::string("X.") + ext));
+    out << "DATE: 2024-01-01 UNITS: metal CONTRIBUTOR: pdcg test\nsynthetic\n\n1 Cu\n"
+        << nrho << " " << drho << " " << nr << " " << dr << " " << cut << "\n29 63.546 3.615 fcc\n";
+    block(out, F);
+    block(out, rho);
+    block(out, z2r);
+  }
+  {
+    std::ofstream out(dir / "X.eam");
+    out << "DATE: 2024-01-01 UNITS: metal synthetic funcfl\n29 63.546 3.615 fcc\n"
+        << nrho << " " << drho << " " << nr << " " << dr << " " << cut << "\n";
+    block(out, F);
+    block(out, Z);
+    block(out, rho);
+  }
+  const Atoms cu = fcc(2, 3.615, 0.01, 1, 17);
+  for (const std::string units : {"metal", "real"}) {
+    const std::string d = dir.string();
+    compare("units " + units + "\npair_style eam\npair_coeff 1 1 " + d + "/X.eam\n", cu,
+            ("synthetic eam, " + units).c_str());
+    compare("units " + units + "\npair_style eam/alloy\npair_coeff * * " + d + "/X.eam.alloy Cu\n",
+            cu, ("synthetic eam/alloy, " + units).c_str());
+    compare("units " + units + "\npair_style eam/fs\npair_coeff * * " + d + "/X.eam.fs Cu\n", cu,
+            ("synthetic eam/fs, " + units).c_str());
+  }
+  std::filesystem::remove_all(dir);
 }

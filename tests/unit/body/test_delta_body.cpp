@@ -180,3 +180,86 @@ TEST(DeltaBody, BadInputIsReported) {
   EXPECT_THROW((void)rescaled_potential(pot, 0.0, 3), InputError);
   EXPECT_THROW((void)rescaled_potential(pot, -2.0, 3), InputError);
 }
+
+// A data file does not say which directions are periodic. A free cluster written into a box
+// that only just holds it overlaps its own images under LAMMPS's default p p p: refused (with
+// the fix) when nothing stated the periodicity, a warning when something did; crystals and
+// liquids in their periodic cells pass.
+TEST(DeltaBody, OverlappingPeriodicImagesAreRefusedWhenAssumed) {
+  auto pot = std::make_shared<test::Springs>(1.0, 1.0, 1.5);
+  // 4×4×4 simple cubic cluster, spacing 1, atoms at 0.5 … 3.5: a box of 3.2 puts the image of
+  // the face at 0.5 at 3.7, 0.2 from the face at 3.5
+  atomistic::Atoms a = test::cubic_lattice(4, 4, 4, 1.0, 0.0, true);
+  a.box.hi = {3.2, 4.0, 4.0};
+  const auto spec = spec_for_tests();
+  try {
+    (void)make_delta_body(a, pot, spec, {.source = "cluster.data", .periodicity_assumed = true});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("periodic images overlap"), std::string::npos) << m;
+    EXPECT_NE(m.find("cluster.data"), std::string::npos) << m;
+    EXPECT_NE(m.find("shifted by (-1, 0, 0)"), std::string::npos) << m;  // the x direction
+    EXPECT_NE(m.find("0.2 apart"), std::string::npos) << m;
+    EXPECT_NE(m.find("boundary s s s"), std::string::npos) << m;
+    EXPECT_NE(m.find("--boundary \"f f f\""), std::string::npos) << m;
+  }
+  // stated periodic (a boundary command, a dump header, --boundary): built, as LAMMPS would
+  EXPECT_NO_THROW((void)make_delta_body(a, pot, spec,
+                                        {.source = "cluster.data", .periodicity_assumed = false}));
+  // free along x: nothing overlaps
+  atomistic::Atoms f = a;
+  f.box.periodic = {false, true, true};
+  EXPECT_NO_THROW(
+      (void)make_delta_body(f, pot, spec, {.source = "cluster.data", .periodicity_assumed = true}));
+  // a jittered periodic crystal (box 4: images about one spacing away) passes
+  EXPECT_NO_THROW((void)make_delta_body(test::cubic_lattice(4, 4, 4, 1.0, 0.1, true), pot, spec,
+                                        {.source = "crystal.data", .periodicity_assumed = true}));
+  // one atom per cell (no pair inside the box): cannot be judged, passes
+  atomistic::Atoms one = test::cubic_lattice(1, 1, 1, 1.0, 0.0, true);
+  EXPECT_NO_THROW((void)make_delta_body(one, pot, spec,
+                                        {.source = "crystal.data", .periodicity_assumed = true}));
+  // an atom closer to its own image than the closest pair: a film with a z height of 0.3
+  atomistic::Atoms film = test::cubic_lattice(4, 4, 1, 1.0, 0.0, true);
+  film.box.hi[2] = 0.3;
+  EXPECT_THROW((void)make_delta_body(film, pot, spec,
+                                     {.source = "crystal.data", .periodicity_assumed = true}),
+               InputError);
+}
+
+// Topology: a bond style needs molecular bonds; bonds need a bond_coeff per bond type.
+TEST(DeltaBody, BondStyleWithoutBondsIsRefused) {
+  auto pot = std::make_shared<test::Springs>(1.0, 1.0, 1.5);
+  atomistic::Atoms a = test::cubic_lattice(2, 2, 2, 1.0, 0.0, false);
+  atomistic::PotentialSpec s = spec_for_tests();
+  s.source = "mol.in";
+  s.bond_style = "harmonic";
+  s.bond_style_line = 4;
+  s.bond_coeff.push_back({"1", "", {"100", "1.0"}, "bond_coeff 1 100 1.0", 5});
+  try {
+    (void)make_delta_body(a, pot, s, {.source = "dump.lammpstrj"});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("mol.in:4"), std::string::npos) << m;
+    EXPECT_NE(m.find("carries no bonds"), std::string::npos) << m;
+    EXPECT_NE(m.find("write_data"), std::string::npos) << m;
+  }
+  // bond_style zero with no bonds adds nothing: accepted
+  s.bond_style = "zero";
+  EXPECT_NO_THROW((void)make_delta_body(a, pot, s));
+  // bonds of type 2 without coefficients: refused, naming the type and the fix
+  s.bond_style = "harmonic";
+  a.bonds = {{1, 1, 2}, {2, 2, 3}};
+  try {
+    (void)make_delta_body(a, pot, s, {.source = "mol.data"});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("bond type 2"), std::string::npos) << m;
+    EXPECT_NE(m.find("bond_coeff 2"), std::string::npos) << m;
+  }
+  // `bond_coeff 2*` reaches type 2 (and any beyond)
+  s.bond_coeff.push_back({"2*", "", {"50", "1.1"}, "bond_coeff 2* 50 1.1", 6});
+  EXPECT_NO_THROW((void)make_delta_body(a, pot, s, {.source = "mol.data"}));
+}
