@@ -383,6 +383,7 @@ class StillingerWeber final : public Potential {
         const double* yl = Y + 3 * l;
         const double w[3] = {yl[0] - yi[0], yl[1] - yi[1], yl[2] - yi[2]};
         const double wsq = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        if (wsq >= cutmaxsq_) continue;  // most of the family: no entry lookup
         const int tl = f.neighbor_type[l];
         const Param& pil = P(ti, tl, tl);
         if (wsq >= pil.cutsq) continue;

@@ -270,6 +270,7 @@ class Tersoff final : public Potential {
     cutmax_ = 0.0;
     for (const Param& p : params_) cutmax_ = std::max(cutmax_, p.cut);
     cutmaxsq_ = cutmax_ * cutmax_;
+    reachsq_ = std::max(cutmax_ - shift_, 0.0) * std::max(cutmax_ - shift_, 0.0);
     pidx_.assign(static_cast<std::size_t>(n1_ * n1_ * n1_), 0);
     for (int ti = 1; ti <= ntypes_; ++ti)
       for (int tj = 1; tj <= ntypes_; ++tj)
@@ -415,7 +416,9 @@ class Tersoff final : public Potential {
     std::int64_t nn = 0;
     for (std::int64_t b = 0; b < n; ++b) {
       const double* y = Y + 3 * b;
-      const double r = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) + shift_;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      if (rsq >= reachsq_) continue;
+      const double r = std::sqrt(rsq) + shift_;
       if (r * r < cutmaxsq_) {
         if (nn == kMaxNear) return poison();
         near[nn] = b;
@@ -464,7 +467,9 @@ class Tersoff final : public Potential {
         if (l == j) continue;
         const double* yl = Y + 3 * l;
         const double w[3] = {yl[0] - yj[0], yl[1] - yj[1], yl[2] - yj[2]};
-        const double rw = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) + shift_;
+        const double wsq = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        if (wsq >= reachsq_) continue;  // beyond every cutoff: no sqrt, no entry lookup
+        const double rw = std::sqrt(wsq) + shift_;
         if (rw * rw >= cutmaxsq_ || rw * rw >= P(tj, tk, f.neighbor_type[l]).cutsq) continue;
         if (nl == kMaxNear) return poison();
         list[nl++] = l;
@@ -483,6 +488,7 @@ class Tersoff final : public Potential {
   std::vector<Param> params_;
   std::vector<int> pidx_;
   double cutmax_ = 0.0, cutmaxsq_ = 0.0;
+  double reachsq_ = 0.0;  ///< (r_c − δ)²: unshifted r² beyond which r + δ ≥ every cutoff
 };
 
 }  // namespace
