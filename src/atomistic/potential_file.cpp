@@ -133,8 +133,8 @@ int max_type_in(std::string_view token) {
   return m;
 }
 
-const std::set<std::string, std::less<>> kNativePair{"lj/cut", "morse",     "zero",
-                                                     "eam",    "eam/alloy", "eam/fs"};
+const std::set<std::string, std::less<>> kNativePair{"lj/cut",    "morse",  "zero", "eam",
+                                                     "eam/alloy", "eam/fs", "sw",   "tersoff"};
 const std::set<std::string, std::less<>> kNativeBond{"harmonic", "fene", "zero"};
 
 /// Pair styles whose pair_coeff starts with `* * FILE` or `I J FILE` (tabulated/many-body).
@@ -385,7 +385,7 @@ void require_supported_styles(const PotentialSpec& spec, bool lammps_enabled) {
         .line(spec.pair_style_line)
         .key("pair_style")
         .value(spec.pair_style)
-        .expected("a native style (lj/cut, morse, zero, eam, eam/alloy, eam/fs)")
+        .expected("a native style (lj/cut, morse, zero, eam, eam/alloy, eam/fs, sw, tersoff)")
         .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON (liblammps), or use a native style");
   if (!spec.bond_style.empty() && !native_bond_style(spec.bond_style) && !lammps_enabled)
     throw InputError("bond style needs embedded LAMMPS, which this build does not have")

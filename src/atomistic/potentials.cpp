@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "eam_tables.hpp"
+#include "manybody.hpp"
 #include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/atomistic/lammps_potential.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -961,6 +962,17 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
   }
   if (ps == "eam" || ps == "eam/alloy" || ps == "eam/fs")
     return std::make_unique<EamModel>(spec, build_eam_tables(spec), std::move(bonds));
+  if (ps == "sw" || ps == "tersoff") {
+    if (bonds.active())
+      throw InputError("molecular bonds with a three-body or bond-order pair style are not native")
+          .source(spec.source)
+          .line(spec.bond_style_line)
+          .key("bond_style")
+          .value(spec.bond_style)
+          .expected("pair_style " + ps + " without bond_style")
+          .fix("drop the bond_style (sw and tersoff need no bonds)");
+    return ps == "sw" ? detail::make_stillinger_weber(spec) : detail::make_tersoff(spec);
+  }
   require_supported_styles(spec);
   // Any other style LAMMPS knows: force states by central differences of LAMMPS's per-atom
   // energies on clusters (include/pdcg/atomistic/lammps_potential.hpp).

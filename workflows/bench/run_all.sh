@@ -16,6 +16,7 @@
 #   3. solver_bench.sh   Newton iteration split (assembly, factorisation, solve), memory
 #   4. parse_dump.sh     dump parsing vs LAMMPS read_dump (MB/s)
 #   5. bench_delta_body  body building, seconds and bytes per atom
+#   6. manybody_vs_lammps.sh  native sw/tersoff: one force evaluation and pdcg md vs lmp
 # Environment passed through to the scripts (see each script's header for the sizes).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -35,12 +36,14 @@ if [[ $full == 1 ]]; then
   solver_env=(BIG=1)
   dump_env=()
   body_cells=63
+  mb_cells="3 10 20"
 else
   md_cells="20 40" md_repeat=1
   roof_env=(SIZES_2D="100 316" SIZES_3D="12" TANGENT_2D=100 TANGENT_3D=8 ROOF_ROUNDS=2 REPEAT=1)
   solver_env=(SIZES_2D="50 100" SIZES_3D="8 10" COMPARE_SOLVERS="cholmod gmres gmres-mf")
   dump_env=(FRAMES=3 CELLS=40)
   body_cells=32
+  mb_cells="3 10"
 fi
 
 section() {  # title, then the command's stdout goes to the terminal and the report
@@ -76,6 +79,8 @@ section "4. Dump parsing vs LAMMPS read_dump (parse_dump.sh)" \
   env "${dump_env[@]}" bash "$here/parse_dump.sh" "$PDCG_BUILD" "$OUT/dump"
 delta_bin=$(find "$PDCG_BUILD" -name bench_delta_body -type f -perm -u+x | head -1)
 section "5. Body building (bench_delta_body $body_cells)" "$delta_bin" "$body_cells"
+section "6. Native sw and tersoff vs LAMMPS (manybody_vs_lammps.sh)" \
+  env CELLS="$mb_cells" REPEAT="$md_repeat" bash "$here/manybody_vs_lammps.sh" "$PDCG_BUILD/pdcg"
 
 if [[ ${NO_DOCS:-0} == 1 ]]; then
   echo "tables in $report (docs/performance.md not touched: NO_DOCS=1)"

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
+#include "pdcg/atomistic/lammps_potential.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/core/error.hpp"
@@ -236,14 +237,15 @@ TEST(LammpsForceStates, TwoImagesOfOneAtomAreRejected) {
   }
 }
 
-// The same fallback as a Potential (make_potential for a non-native style): force states
-// per family on free clusters; the PD forces of the whole periodic body are the LAMMPS forces.
+// The same fallback as a Potential (what make_potential returns for a non-native style;
+// tersoff is native, so it is built here by make_lammps_potential): force states per family
+// on free clusters; the PD forces of the whole periodic body are the LAMMPS forces.
 TEST(LammpsPotential, TersoffBodyForcesEqualLammpsForces) {
   const std::string lines =
       "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n";
   const PotentialSpec spec =
       read_potential_commands_from_string("units metal\n" + lines, "si-tersoff.in", 1);
-  const auto potential = make_potential(spec);
+  const auto potential = make_lammps_potential(spec);
   // Si.tersoff: R = 3.0, D = 0.2 (the file) → r_c = 3.2 Å, family cutoff 2 r_c; measured by
   // bisection to 1e-9 relative
   EXPECT_NEAR(potential->cutoff(), 6.4, 1e-7);
@@ -261,6 +263,78 @@ TEST(LammpsPotential, TersoffBodyForcesEqualLammpsForces) {
   // ψ_k on the cluster is LAMMPS's periodic pe/atom: summation-order round-off
   EXPECT_LT(pdcg::test::max_norm_relative_error(psi, direct.energy), 1e-12);
   EXPECT_NEAR(total, direct.total_energy, 1e-11 * std::abs(direct.total_energy));
+}
+
+// make_potential routes a style without a native implementation (tersoff/mod) to the
+// embedded-LAMMPS fallback, whose body forces are LAMMPS's.
+TEST(LammpsPotential, NonNativeStyleTersoffModIsTheFallback) {
+  const std::string lines =
+      "pair_style tersoff/mod\npair_coeff * * " + *find_potential_file("Si.tersoff.mod") + " Si\n";
+  const PotentialSpec spec =
+      read_potential_commands_from_string("units metal\n" + lines, "si-tersoff-mod.in", 1);
+  EXPECT_FALSE(native_pair_style("tersoff/mod"));
+  const auto potential = make_potential(spec);
+  EXPECT_EQ(potential->style(), "tersoff/mod (embedded LAMMPS)");
+  // Si.tersoff.mod: R = 3.0, D = 0.3 → r_c = 3.3 Å, family cutoff 2 r_c (bisection to 1e-9;
+  // the modified f_C flattens at r_c, so the dimer energy rounds to 0 some 1e-7 Å before it)
+  EXPECT_NEAR(potential->cutoff(), 6.6, 1e-6);
+  const Atoms at = diamond(2, 5.431, 0.03, 76);
+  const Families fam = build_families(at, family_options(*potential, spec, nullptr));
+  std::vector<double> bonds(3 * fam.bonds()), psi(at.size()), t(3 * fam.bonds()), f(3 * at.size());
+  deformed_bonds(fam, at.x, fam.h, bonds);
+  force_states(*potential, fam, at.type, bonds, psi, t);
+  pd_forces(fam, t, f);
+  const LammpsResult direct = LammpsEngine(spec).evaluate(at);
+  const double err = pdcg::test::max_norm_relative_error(f, direct.force);
+  std::printf("tersoff/mod body (cluster force states): max-norm relative force error %.3g\n", err);
+  EXPECT_LT(err, 1e-7);  // central differences, as above
+  EXPECT_LT(pdcg::test::max_norm_relative_error(psi, direct.energy), 1e-12);
+}
+
+// Native sw and tersoff force states bond by bond against the fallback's central differences
+// of LAMMPS's pe/atom on clusters (an independent path: LAMMPS's own per-atom energies): the
+// attribution ψ_k = pe/atom and its derivative t_kj agree, not only the net forces.
+TEST(LammpsPotential, NativeForceStatesEqualFallbackFiniteDifferences) {
+  for (const std::string& lines :
+       {"pair_style sw\npair_coeff * * " + *find_potential_file("Si.sw") + " Si\n",
+        "pair_style tersoff\npair_coeff * * " + *find_potential_file("Si.tersoff") + " Si\n"}) {
+    const PotentialSpec spec = read_potential_commands_from_string("units metal\n" + lines, "m", 1);
+    const auto native = make_potential(spec);
+    const auto fallback = make_lammps_potential(spec);
+    EXPECT_EQ(native->style(), spec.pair_style);
+    // the horizon 2 r_c: tersoff R + D = 3.2 Å, sw a σ = 3.77118 Å (the file); the fallback
+    // measures it by bisection on dimer energies, which for sw's exp(σ/(r − aσ)) underflow to 0
+    // some 3e-3 Å before a σ
+    if (spec.pair_style == "tersoff") EXPECT_NEAR(native->cutoff(), fallback->cutoff(), 1e-7);
+    EXPECT_NEAR(native->cutoff(), spec.pair_style == "sw" ? 2.0 * 2.0951 * 1.80 : 2.0 * (3.0 + 0.2),
+                1e-12);
+    EXPECT_GE(native->cutoff(), fallback->cutoff() - 1e-7);
+    const Atoms at = diamond(2, 5.431, 0.03, 77);
+    const Families fam = build_families(at, family_options(*native, spec, nullptr));
+    std::vector<double> Y(3 * fam.bonds()), psi_n(at.size()), psi_f(at.size()),
+        t_n(3 * fam.bonds()), t_f(3 * fam.bonds());
+    deformed_bonds(fam, at.x, fam.h, Y);
+    // every 8th atom's family through the slow fallback
+    for (std::size_t k = 0; k < at.size(); k += 8) {
+      const std::int64_t b0 = fam.offset[k], n = fam.offset[k + 1] - b0;
+      std::vector<int> nt(static_cast<std::size_t>(n));
+      for (std::int64_t b = 0; b < n; ++b)
+        nt[static_cast<std::size_t>(b)] = at.type[static_cast<std::size_t>(fam.neighbor[b0 + b])];
+      FamilyState st;
+      st.type = at.type[k];
+      st.size = n;
+      st.neighbor_type = nt.data();
+      st.bond = Y.data() + 3 * b0;
+      psi_n[k] = native->force_state(st, t_n.data() + 3 * b0);
+      psi_f[k] = fallback->force_state(st, t_f.data() + 3 * b0);
+    }
+    const double et = pdcg::test::max_norm_relative_error(t_n, t_f);
+    const double ep = pdcg::test::max_norm_relative_error(psi_n, psi_f);
+    std::printf("%s: native vs fallback force states %.3g, ψ %.3g\n", spec.pair_style.c_str(), et,
+                ep);
+    EXPECT_LT(et, 1e-7);   // central differences of pe/atom, as above
+    EXPECT_LT(ep, 1e-12);  // the same energy, summation order
+  }
 }
 
 TEST(LammpsEngine, UnknownStyleIsAnInputErrorNotAnAbort) {

@@ -146,16 +146,21 @@ TEST(PotentialFile, PotentialFilesFoundByNameInLammpsDirectory) {
 }
 
 TEST(PotentialFile, UnsupportedStyleWithoutLammps) {
-  const std::string text = "units metal\npair_style tersoff\npair_coeff * * Si.tersoff Si\n";
+  const std::string text =
+      "units metal\npair_style tersoff/mod\npair_coeff * * Si.tersoff.mod Si\n";
   const auto s = read_potential_commands_from_string(text, "si.in");
   const auto e = input_error([&] { require_supported_styles(s, /*lammps_enabled=*/false); });
   EXPECT_EQ(e.line_number(), 2);
-  EXPECT_EQ(e.bad_value(), "tersoff");
+  EXPECT_EQ(e.bad_value(), "tersoff/mod");
   EXPECT_NO_THROW(require_supported_styles(s, true));
   // native styles need no LAMMPS
   EXPECT_NO_THROW(require_supported_styles(
       read_potential_commands_from_string("pair_style morse 3\n", "x"), false));
-  // non-native styles: force states through embedded LAMMPS when it is built in
+  for (const char* native : {"pair_style tersoff\npair_coeff * * Si.tersoff Si\n",
+                             "pair_style sw\npair_coeff * * Si.sw Si\n"})
+    EXPECT_NO_THROW(
+        require_supported_styles(read_potential_commands_from_string(native, "x"), false));
+    // non-native styles: force states through embedded LAMMPS when it is built in
 #if !PDCG_WITH_LAMMPS
   EXPECT_THROW(make_potential(s), pdcg::InputError);
 #endif

@@ -26,17 +26,21 @@ using atomistic::Atoms;
 
 namespace {
 
-Atoms fcc(int n, double a, double noise, unsigned seed) {
+/// FCC (nbasis 4) or diamond (nbasis 8) lattice, perturbed.
+Atoms fcc(int n, double a, double noise, unsigned seed, int nbasis = 4) {
   Atoms at;
   at.box.hi = {n * a, n * a, n * a};
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
+                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
+                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
   std::int64_t id = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k)
-        for (const auto& b : basis) {
+        for (int q = 0; q < nbasis; ++q) {
+          const auto& b = basis[q];
           at.id.push_back(++id);
           at.type.push_back(1);
           for (int c = 0; c < 3; ++c)
@@ -49,6 +53,7 @@ struct MdSetup {
   const char* units;
   std::string potential;  // pair commands (LAMMPS syntax, also read by pdcg)
   double a, noise, temperature, dt, family_cutoff, mass;
+  int nbasis = 4;  ///< 4: FCC, 8: diamond
 };
 
 body::Body make_body(const MdSetup& s, const Atoms& at) {
@@ -65,7 +70,7 @@ body::Body make_body(const MdSetup& s, const Atoms& at) {
 
 #ifdef PDCG_WITH_LAMMPS
 void check_against_lammps(const MdSetup& s, int cells, int steps) {
-  const Atoms at = fcc(cells, s.a, s.noise, 17);
+  const Atoms at = fcc(cells, s.a, s.noise, 17, s.nbasis);
   const body::Body b = make_body(s, at);
   const auto v0 = dynamics::thermal_velocities(b, s.temperature, 5);
   dynamics::VelocityVerlet vv(b, b.x, v0, s.dt);
@@ -137,7 +142,30 @@ const MdSetup kCu{
     300.0,   0.001,
     5.95,    63.55};
 
+// Native three-body and bond-order styles (general force-state path, families 2 r_c + skin)
+const MdSetup kSiSw{
+    "metal", "pair_style sw\npair_coeff * * /usr/share/lammps/potentials/Si.sw Si\n",
+    5.431,   0.01,
+    300.0,   0.001,
+    8.0,     28.0855,
+    8};
+const MdSetup kSiTersoff{
+    "metal", "pair_style tersoff\npair_coeff * * /usr/share/lammps/potentials/Si.tersoff Si\n",
+    5.431,   0.01,
+    300.0,   0.001,
+    6.9,     28.0855,
+    8};
+
 }  // namespace
+
+TEST(DynamicsVsLammps, DiamondSiStillingerWeberAndTersoffFixNve) {
+#ifdef PDCG_WITH_LAMMPS
+  check_against_lammps(kSiSw, 3, 100);
+  check_against_lammps(kSiTersoff, 3, 100);
+#else
+  GTEST_SKIP() << "LAMMPS not enabled";
+#endif
+}
 
 TEST(DynamicsVsLammps, FccLennardJonesFixNve) {
 #ifdef PDCG_WITH_LAMMPS
