@@ -156,8 +156,8 @@ TEST(PotentialFile, UnsupportedStyleWithoutLammps) {
   // native styles need no LAMMPS
   EXPECT_NO_THROW(require_supported_styles(
       read_potential_commands_from_string("pair_style morse 3\n", "x"), false));
-  for (const char* native : {"pair_style tersoff\npair_coeff * * Si.tersoff Si\n",
-                             "pair_style sw\npair_coeff * * Si.sw Si\n"})
+  for (const char* native : {"units metal\npair_style tersoff\npair_coeff * * Si.tersoff Si\n",
+                             "units metal\npair_style sw\npair_coeff * * Si.sw Si\n"})
     EXPECT_NO_THROW(
         require_supported_styles(read_potential_commands_from_string(native, "x"), false));
     // non-native styles: force states through embedded LAMMPS when it is built in
