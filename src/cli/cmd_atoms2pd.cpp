@@ -50,8 +50,12 @@ int run(const Options& o) {
   if (o.order && o.samples)
     throw InputError("give one of --order and --samples").key("--order/--samples");
   std::string dump_units;
+  atomistic::FrameNeeds needs;  // positions x y z, types; ids to match atoms across frames
+  needs.type = true;
+  needs.id = !o.frames.empty();
+  needs.operation = "pdcg atoms2pd";
   std::vector<atomistic::Atoms> frames =
-      bu::read_configurations(o.input, o.frame, o.frames, &dump_units);
+      bu::read_configurations(o.input, o.frame, o.frames, &dump_units, needs);
   atomistic::Atoms& ref = frames.front();
   int ntypes = ref.ntypes;
   if (ntypes == 0 && !ref.type.empty())
