@@ -171,6 +171,12 @@ d=$(maxdiff f_tx.csv f_txs.csv 2>&1)
   && ok "tilted box: xs ys zs within $tol of x y z (max diff $d)" || bad "tilted box xs ys zs: $d"
 [ ! -e x.h5 ] && [ ! -e x.csv ] && ok "no output file after a refusal" || bad "output written after a refusal"
 
+# a type far beyond any LAMMPS type count (a corrupt column) is refused, not allocated for
+sed '10s/^1 1 /1 2147483647 /' full.dump > bigtype.dump
+expect_error "atoms2pd: type 2147483647 refused" \
+  "bigtype.dump: type of atom id 1: atom type too large for a dump without a declared type count: got '2147483647'" \
+  atoms2pd --input bigtype.dump --frame 0 --potential lj.in -o x.h5
+
 # --- zero atoms ------------------------------------------------------------------------------
 out=$("$pdcg" inspect empty.dump 2>&1) && code=0 || code=$?
 if [ "$code" = 0 ] && grep -Eq "types: +none: frame 0 \(timestep 0\) has zero atoms \(empty.dump:4: ITEM: NUMBER OF ATOMS 0\)" <<<"$out"; then
