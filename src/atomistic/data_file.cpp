@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -171,6 +172,9 @@ class Parser {
   template <class Fn>
   void for_section_lines(std::string_view section, std::int64_t n, Fn&& fn);
 
+  /// An xyz file (`dump xyz`: a count line, a comment line, then `name x y z` lines) is
+  /// refused by name; a data file whose title is a number reads on.
+  void refuse_xyz(std::string_view first);
   void header(std::string_view& first_section, std::string_view& first_comment, bool& more);
   void read_atoms(std::int64_t n, std::string_view style_comment);
   void read_masses(std::int64_t n);
@@ -275,6 +279,39 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
   more = false;
 }
 
+void Parser::refuse_xyz(std::string_view first) {
+  const auto count = trim(first);
+  if (count.empty() || count.size() > 18 ||
+      !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return;
+  const std::uint64_t back = r_.offset();
+  const long back_line = r_.line_number() + 1;
+  std::string_view comment, atom;
+  bool xyz = false;
+  if (r_.next(comment)) {
+    // LAMMPS writes "Atoms. Timestep: N"; other programs write anything on line 2
+    xyz = trim(comment).substr(0, 17) == "Atoms. Timestep: ";
+    if (!xyz && r_.next(atom)) {
+      // a data file has no header line with three numbers after the first token
+      const auto tok = split_blanks(atom);
+      xyz = tok.size() >= 4;
+      for (std::size_t k = 1; xyz && k < 4; ++k) {
+        double v = 0.0;
+        const auto t = tok[k];
+        const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        xyz = ec == std::errc() && ptr == t.data() + t.size();
+      }
+    }
+  }
+  if (xyz)
+    fail(1, "an xyz file (dump xyz) is not read", std::string(count),
+         "a LAMMPS data file (write_data) or a text dump (dump custom / dump atom)",
+         "an xyz file has no box, no atom ids and element names instead of types; write a text "
+         "dump instead: `dump 1 all custom N traj.dump id type x y z` (or `dump 1 all atom N "
+         "traj.dump`), or a data file (write_data)");
+  r_.seek(back, back_line);
+}
+
 std::size_t Parser::index_of(std::int64_t id, long line, std::string_view section) const {
   const auto it = index_.find(id);
   if (it == index_.end())
@@ -301,13 +338,22 @@ void Parser::read_atoms(std::int64_t n, std::string_view style_comment) {
     style = hint_;
   }
   const auto N = static_cast<std::size_t>(n);
-  a.id.resize(N);
-  a.type.resize(N);
-  a.x.resize(3 * N);
-  atom_line_.resize(N);
-  index_.reserve(N);
   std::size_t base = 0;
   bool has_mol = false, has_q = false;
+  // Arrays grow with the lines read (a header count far beyond the file's lines must fail as
+  // a short section, not as a huge allocation).
+  std::size_t cap = 0;
+  auto grow = [&](std::size_t need) {
+    if (need <= cap) return;
+    cap = std::min(N, std::max<std::size_t>(2 * cap, 4096));
+    a.id.resize(cap);
+    a.type.resize(cap);
+    a.x.resize(3 * cap);
+    atom_line_.resize(cap);
+    if (has_mol) a.molecule.resize(cap);
+    if (has_q) a.charge.resize(cap);
+    if (!a.image.empty()) a.image.resize(3 * cap, 0);
+  };
   for_section_lines("Atoms", n, [&](std::int64_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const long ln = r_.line_number();
@@ -336,9 +382,8 @@ void Parser::read_atoms(std::int64_t n, std::string_view style_comment) {
       has_mol = style == AtomStyle::bond || style == AtomStyle::angle ||
                 style == AtomStyle::molecular || style == AtomStyle::full;
       has_q = style == AtomStyle::charge || style == AtomStyle::full;
-      if (has_mol) a.molecule.resize(N);
-      if (has_q) a.charge.resize(N);
     }
+    grow(i + 1);
     if (tok_.size() != base && tok_.size() != base + 3)
       fail(ln, fmt::format("Atoms line has {} values", tok_.size()), std::string(tok_[0]),
            fmt::format("{} values ({}) or {} with image flags ix iy iz (atom style {})", base,
@@ -359,7 +404,7 @@ void Parser::read_atoms(std::int64_t n, std::string_view style_comment) {
     static constexpr std::array<const char*, 3> xyz{"x", "y", "z"};
     for (std::size_t c = 0; c < 3; ++c) a.x[3 * i + c] = num(k++, xyz[c]);
     if (tok_.size() == base + 3) {
-      if (a.image.empty()) a.image.assign(3 * N, 0);
+      if (a.image.empty()) a.image.assign(3 * cap, 0);
       for (int c = 0; c < 3; ++c)
         a.image[3 * i + static_cast<std::size_t>(c)] =
             static_cast<int>(integer(k++, c == 0   ? "ix"
@@ -435,7 +480,7 @@ void Parser::read_bonds(std::int64_t n) {
          "move the Atoms section before Bonds (as write_data does)");
   Atoms& a = out_.atoms;
   const auto nbt = out_.counts.count("bond types") ? out_.counts.at("bond types") : 0;
-  a.bonds.reserve(static_cast<std::size_t>(n));
+  a.bonds.reserve(static_cast<std::size_t>(std::min<std::int64_t>(n, 1 << 20)));
   for_section_lines("Bonds", n, [&](std::int64_t) {
     const long ln = r_.line_number();
     if (tok_.size() != 4)
@@ -464,6 +509,7 @@ DataFile Parser::run() {
          "data file (write_data), or convert with LAMMPS's tools/binary2txt");
   out_.title = std::string(trim(line));
   out_.compressed = src_->compressed();
+  refuse_xyz(line);
   std::string_view section, comment;
   bool more = false;
   header(section, comment, more);
@@ -484,6 +530,9 @@ DataFile Parser::run() {
     }
     out_.sections.push_back(name);
     if (name == "Atoms") {
+      if (have_atoms_)
+        fail(ln, "a second Atoms section", name, "one Atoms section",
+             "remove the duplicate section (write_data writes one)");
       read_atoms(n, style_comment);
     } else if (name == "Masses") {
       read_masses(n);

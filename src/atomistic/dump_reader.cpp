@@ -25,6 +25,17 @@ namespace {
 using detail::ByteSource;
 using detail::LineReader;
 
+/// A line holding one non-negative integer only (the atom count that starts an xyz frame).
+bool is_count(std::string_view line) {
+  const auto t = trim(line);
+  return !t.empty() && t.size() < 20 &&
+         std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+constexpr const char* kXyzFix =
+    "an xyz file has no box, no atom ids and element names instead of types; write a text dump "
+    "instead: `dump 1 all custom N traj.dump id type x y z` (or `dump 1 all atom N traj.dump`), "
+    "or a data file (write_data)";
+constexpr std::int64_t kMaxImage = std::numeric_limits<int>::max();
 bool is_item(std::string_view line) { return line.size() >= 5 && line.compare(0, 5, "ITEM:") == 0; }
 bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
@@ -36,16 +47,72 @@ struct ColumnPlan {
   std::string extra_name;  ///< for Dest::extra
 };
 enum class PositionKind { none, unwrapped, wrapped, scaled_unwrapped, scaled };
+bool is_scaled(PositionKind k) {
+  return k == PositionKind::scaled || k == PositionKind::scaled_unwrapped;
+}
+bool is_wrapped(PositionKind k) { return k == PositionKind::wrapped || k == PositionKind::scaled; }
+
+/// Position columns in the order of preference (see the header).
+constexpr std::array<std::pair<PositionKind, std::array<const char*, 3>>, 4> kPositionKinds{{
+    {PositionKind::unwrapped, {"xu", "yu", "zu"}},
+    {PositionKind::wrapped, {"x", "y", "z"}},
+    {PositionKind::scaled_unwrapped, {"xsu", "ysu", "zsu"}},
+    {PositionKind::scaled, {"xs", "ys", "zs"}},
+}};
+constexpr std::array<const char*, 3> kAxisColumns{"x (or xu, xs, xsu)", "y (or yu, ys, ysu)",
+                                                  "z (or zu, zs, zsu)"};
+
+/// Which column gives the position along each axis: the first complete set of one kind, else
+/// per axis the first of its columns in the same order.
+struct PositionChoice {
+  std::array<PositionKind, 3> kind{PositionKind::none, PositionKind::none, PositionKind::none};
+  std::array<std::size_t, 3> column{0, 0, 0};
+  bool has(std::size_t k) const { return kind[k] != PositionKind::none; }
+  bool complete() const { return has(0) && has(1) && has(2); }
+  bool any_scaled() const { return is_scaled(kind[0]) || is_scaled(kind[1]) || is_scaled(kind[2]); }
+  /// One kind for all three axes.
+  bool uniform() const { return complete() && kind[0] == kind[1] && kind[1] == kind[2]; }
+  /// Fractional columns need a complete set of one kind in a tilted box (x = lo + H s mixes axes).
+  bool usable_in(const Box& b) const { return !(b.triclinic() && any_scaled() && !uniform()); }
+};
+
+PositionChoice choose_positions(const std::vector<std::string>& cols) {
+  auto find = [&](std::string_view name) -> std::optional<std::size_t> {
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      if (cols[j] == name) return j;
+    return std::nullopt;
+  };
+  PositionChoice c;
+  for (const auto& [kind, names] : kPositionKinds) {
+    const auto i = find(names[0]), j = find(names[1]), k = find(names[2]);
+    if (i && j && k) {
+      c.kind = {kind, kind, kind};
+      c.column = {*i, *j, *k};
+      return c;
+    }
+  }
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    for (const auto& [kind, names] : kPositionKinds)
+      if (auto j = find(names[axis])) {
+        c.kind[axis] = kind;
+        c.column[axis] = *j;
+        break;
+      }
+  return c;
+}
 
 struct FramePlan {
   std::vector<ColumnPlan> columns;
-  PositionKind position = PositionKind::none;
+  PositionChoice position;  ///< the axes whose columns are read into Atoms::x (none: x empty)
   bool has_id = false, has_type = false, has_mol = false, has_charge = false, has_mass = false;
   bool has_image = false, has_vel = false, has_force = false;
   std::vector<std::string> extra_names;
 };
 
-FramePlan make_plan(const std::vector<std::string>& cols, std::string_view source) {
+/// `positions`: the position columns to read into Atoms::x (an empty choice keeps them all in
+/// Atoms::extra by name).
+FramePlan make_plan(const std::vector<std::string>& cols, std::string_view source,
+                    const PositionChoice& positions) {
   FramePlan plan;
   plan.columns.resize(cols.size());
   auto find = [&](std::string_view name) -> std::optional<std::size_t> {
@@ -62,19 +129,9 @@ FramePlan make_plan(const std::vector<std::string>& cols, std::string_view sourc
   auto assign3 = [&](const std::array<std::size_t, 3>& idx, Dest d) {
     for (int k = 0; k < 3; ++k) plan.columns[idx[static_cast<std::size_t>(k)]] = {d, k, {}};
   };
-  // Positions: the first complete set, in the order documented in the header.
-  const std::array<std::pair<PositionKind, std::array<const char*, 3>>, 4> kinds{{
-      {PositionKind::unwrapped, {"xu", "yu", "zu"}},
-      {PositionKind::wrapped, {"x", "y", "z"}},
-      {PositionKind::scaled_unwrapped, {"xsu", "ysu", "zsu"}},
-      {PositionKind::scaled, {"xs", "ys", "zs"}},
-  }};
-  for (const auto& [kind, names] : kinds)
-    if (auto idx = find3(names[0], names[1], names[2])) {
-      plan.position = kind;
-      assign3(*idx, Dest::pos);
-      break;
-    }
+  plan.position = positions;
+  for (std::size_t k = 0; k < 3; ++k)
+    if (positions.has(k)) plan.columns[positions.column[k]] = {Dest::pos, static_cast<int>(k), {}};
   if (auto idx = find3("ix", "iy", "iz")) {
     plan.has_image = true;
     assign3(*idx, Dest::image);
@@ -127,6 +184,7 @@ struct Sink {
   enum Kind : std::uint8_t { skip, f64, i64, i32 } kind = skip;
   void* base = nullptr;
   std::size_t stride = 1;
+  bool positive = false;  ///< i32 values must be >= 1 (atom types)
 };
 
 }  // namespace
@@ -145,7 +203,10 @@ struct DumpReader::Impl {
 
   /// Indexes frames until frame `wanted` is known or the file ends.
   void index_until(std::size_t wanted);
-  Atoms parse(std::size_t n);
+  /// Frame n; with `needs`, positions are read when the needed axes are present (require()
+  /// has checked that), else only when all three are.
+  Atoms parse(std::size_t n, const FrameNeeds* needs);
+  void require(std::size_t n, const FrameNeeds& needs) const;
 
   [[noreturn]] void fail_at(long line, std::string problem, std::string_view value,
                             std::string_view expected, std::string_view fix) const {
@@ -184,6 +245,10 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
       continue;
     }
     if (!is_item(line)) {
+      if (frames.empty() && is_count(line))
+        fail_at(r.line_number(), "an xyz file (dump xyz) is not read",
+                std::string(line.substr(0, 60)),
+                "a LAMMPS text dump starting with 'ITEM: TIMESTEP'", kXyzFix);
       if (frames.empty())
         fail_at(r.line_number(), "not a LAMMPS dump file", std::string(line.substr(0, 60)),
                 "'ITEM: TIMESTEP' (or ITEM: UNITS / ITEM: TIME) on the first line",
@@ -209,6 +274,7 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
       } else if (item == "NUMBER OF ATOMS") {
         const std::string_view v = trim(value_line(item));
         fi.natoms = parse_int(v, {path, r.line_number(), "NUMBER OF ATOMS"});
+        fi.natoms_line = r.line_number();
         if (fi.natoms < 0)
           fail_at(r.line_number(), "negative number of atoms", v, "a count >= 0", {});
         got_natoms = true;
@@ -242,7 +308,15 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
         std::array<double, 3> lo_b{}, hi_b{}, tilt{};
         static constexpr std::array<const char*, 3> axis{"x bounds", "y bounds", "z bounds"};
         for (std::size_t k = 0; k < 3; ++k) {
-          const std::string_view v = value_line("BOX BOUNDS");
+          const bool got = r.next(line);
+          if (!got || is_item(line))
+            fail_at(r.line_number(), fmt::format("ITEM: BOX BOUNDS has {} of 3 lines", k),
+                    got ? std::string(line.substr(0, 60)) : std::string("end of file"),
+                    triclinic ? "3 lines 'lo_bound hi_bound tilt' (x, y, z; a 2D box too)"
+                              : "3 lines 'lo hi' (x, y, z; a 2D box too)",
+                    "the file was cut short or is not a LAMMPS dump; LAMMPS writes three box "
+                    "lines in every frame");
+          const std::string_view v = line;
           split_blanks(v, tok);
           const std::size_t want = triclinic ? 3 : 2;
           if (tok.size() != want)
@@ -341,10 +415,61 @@ void DumpReader::Impl::index_until(std::size_t wanted) {
     fail_at(0, "empty dump file", {}, "at least one frame", "give a non-empty LAMMPS text dump");
 }
 
-Atoms DumpReader::Impl::parse(std::size_t n) {
+void DumpReader::Impl::require(std::size_t n, const FrameNeeds& needs) const {
   const DumpFrameInfo& fi = frames[n];
   const auto& cols = column_sets[fi.column_set];
-  const FramePlan plan = make_plan(cols, path);
+  const long atoms_item = fi.atoms_line - 1;  // the line of ITEM: ATOMS
+  const std::string header = fmt::format("ITEM: ATOMS {}", fmt::join(cols, " "));
+  constexpr const char* kFix =
+      "write the dump with the columns it needs, e.g. `dump 1 all custom 100 traj.dump id type x "
+      "y z` (or `dump 1 all atom 100 traj.dump`)";
+  if (needs.atoms && fi.natoms == 0)
+    fail_at(fi.natoms_line,
+            fmt::format("{} needs atoms, but frame {} (timestep {}) has zero atoms",
+                        needs.operation, n, fi.timestep),
+            "ITEM: NUMBER OF ATOMS 0", "at least one atom",
+            "select a frame with atoms (--frame), or check the dump group");
+  const PositionChoice pos = choose_positions(cols);
+  std::vector<std::string> missing;
+  for (std::size_t k = 0; k < 3; ++k)
+    if (needs.position[k] && !pos.has(k)) missing.emplace_back(kAxisColumns[k]);
+  if (needs.type && std::find(cols.begin(), cols.end(), "type") == cols.end())
+    missing.emplace_back("type");
+  if (needs.id && std::find(cols.begin(), cols.end(), "id") == cols.end())
+    missing.emplace_back("id");
+  if (!missing.empty())
+    fail_at(atoms_item,
+            fmt::format("{} needs column{} {} that frame {} (timestep {}) does not have",
+                        needs.operation, missing.size() == 1 ? "" : "s", fmt::join(missing, ", "),
+                        n, fi.timestep),
+            header, fmt::format("ITEM: ATOMS with {}", fmt::join(missing, ", ")), kFix);
+  const bool positions = needs.position[0] || needs.position[1] || needs.position[2];
+  if (positions && !pos.usable_in(fi.box))
+    fail_at(atoms_item,
+            fmt::format("frame {} (timestep {}) mixes fractional and other position columns in "
+                        "a tilted box",
+                        n, fi.timestep),
+            header,
+            "in a triclinic box, fractional positions as a complete set (xs ys zs or xsu ysu zsu)",
+            kFix);
+}
+
+Atoms DumpReader::Impl::parse(std::size_t n, const FrameNeeds* needs) {
+  const DumpFrameInfo& fi = frames[n];
+  const auto& cols = column_sets[fi.column_set];
+  PositionChoice pos = choose_positions(cols);
+  // Read positions when they can give Atoms::x: all three axes (or, for an operation, the axes
+  // it needs), and fractional columns only as one complete set in a tilted box.
+  bool read_pos = pos.complete();
+  if (needs) {
+    read_pos = true;
+    for (std::size_t k = 0; k < 3; ++k)
+      if (needs->position[k] && !pos.has(k)) read_pos = false;
+    read_pos = read_pos && (pos.has(0) || pos.has(1) || pos.has(2));
+  }
+  if (!pos.usable_in(fi.box)) read_pos = false;
+  if (!read_pos) pos = PositionChoice{};
+  const FramePlan plan = make_plan(cols, path, pos);
   const std::size_t N = static_cast<std::size_t>(fi.natoms);
 
   Atoms a;
@@ -352,7 +477,14 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
   a.box = fi.box;
   a.id.resize(N);
   if (plan.has_type) a.type.resize(N);
-  if (plan.position != PositionKind::none) a.x.resize(3 * N);
+  if (read_pos) {
+    // axes without a column (not needed by the caller): the box centre
+    a.x.resize(3 * N);
+    const Eigen::Vector3d centre = 0.5 * (fi.box.lo + fi.box.hi);
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t k = 0; k < 3; ++k)
+        if (!pos.has(k)) a.x[3 * i + k] = centre[static_cast<Eigen::Index>(k)];
+  }
   if (plan.has_image) a.image.resize(3 * N);
   if (plan.has_vel) a.v.resize(3 * N);
   if (plan.has_force) a.f.resize(3 * N);
@@ -379,7 +511,7 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
         s = {Sink::i64, a.id.data(), 1};
         break;
       case Dest::type:
-        s = {Sink::i32, a.type.data(), 1};
+        s = {Sink::i32, a.type.data(), 1, true};
         break;
       case Dest::mol:
         s = {Sink::i64, a.molecule.data(), 1};
@@ -451,10 +583,16 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
           std::int64_t v = 0;
           const auto [ptr, ec] = std::from_chars(p + (*p == '+'), e, v);
           if (ec != std::errc() || (ptr != e && !blank(*ptr))) bad(j, p, e, true);
-          if (s.kind == Sink::i64)
+          if (s.kind == Sink::i64) {
             static_cast<std::int64_t*>(s.base)[i * s.stride] = v;
-          else
+          } else {
+            if (v > std::numeric_limits<int>::max() || v < (s.positive ? 1 : -kMaxImage))
+              fail_at(r.line_number(), s.positive ? "atom type out of range" : "value out of range",
+                      std::string_view(p, static_cast<std::size_t>(ptr - p)),
+                      s.positive ? "an atom type >= 1" : "an image flag that fits an int",
+                      fmt::format("check column '{}'; the file may be corrupt", cols[j]));
             static_cast<int*>(s.base)[i * s.stride] = static_cast<int>(v);
+          }
           p = ptr;
           break;
         }
@@ -480,7 +618,8 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
   // Positions to Cartesian, unwrapped where possible (see the header).
   const Box& b = a.box;
   const Eigen::Vector3d l = b.lengths();
-  if (plan.position == PositionKind::scaled || plan.position == PositionKind::scaled_unwrapped) {
+  const PositionChoice& pc = plan.position;
+  if (pc.uniform() && is_scaled(pc.kind[0])) {
     // x = lo + H s, H upper triangular.
     for (std::size_t i = 0; i < N; ++i) {
       double* x = a.x.data() + 3 * i;
@@ -489,16 +628,25 @@ Atoms DumpReader::Impl::parse(std::size_t n) {
       x[1] = b.lo.y() + l.y() * s1 + b.yz * s2;
       x[2] = b.lo.z() + l.z() * s2;
     }
+  } else {
+    // A set mixed per axis: fractional columns only in an orthogonal box (usable_in), where
+    // each axis maps on its own.
+    for (std::size_t k = 0; k < 3; ++k)
+      if (is_scaled(pc.kind[k])) {
+        const auto e = static_cast<Eigen::Index>(k);
+        for (std::size_t i = 0; i < N; ++i) a.x[3 * i + k] = b.lo[e] + l[e] * a.x[3 * i + k];
+      }
   }
-  if (plan.has_image &&
-      (plan.position == PositionKind::wrapped || plan.position == PositionKind::scaled)) {
-    // x ← x + H·image (LAMMPS Domain::unmap).
+  if (plan.has_image && read_pos) {
+    // x ← x + H·image (LAMMPS Domain::unmap), row by row for the wrapped axes.
+    const std::array<bool, 3> wrapped{is_wrapped(pc.kind[0]), is_wrapped(pc.kind[1]),
+                                      is_wrapped(pc.kind[2])};
     for (std::size_t i = 0; i < N; ++i) {
       double* x = a.x.data() + 3 * i;
       const int* m = a.image.data() + 3 * i;
-      x[0] += l.x() * m[0] + b.xy * m[1] + b.xz * m[2];
-      x[1] += l.y() * m[1] + b.yz * m[2];
-      x[2] += l.z() * m[2];
+      if (wrapped[0]) x[0] += l.x() * m[0] + b.xy * m[1] + b.xz * m[2];
+      if (wrapped[1]) x[1] += l.y() * m[1] + b.yz * m[2];
+      if (wrapped[2]) x[2] += l.z() * m[2];
     }
   }
 
@@ -567,7 +715,26 @@ const std::string& DumpReader::units() const { return impl_->units; }
 Atoms DumpReader::frame(std::size_t n) const {
   (void)info(n);  // range check
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->parse(n);
+  return impl_->parse(n, nullptr);
+}
+Atoms DumpReader::frame(std::size_t n, const FrameNeeds& needs) const {
+  (void)info(n);  // range check
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->require(n, needs);
+  return impl_->parse(n, &needs);
+}
+void DumpReader::require(std::size_t n, const FrameNeeds& needs) const {
+  (void)info(n);  // range check
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->require(n, needs);
+}
+std::array<std::string, 3> DumpReader::position_columns(std::size_t n) const {
+  const auto& cols = columns(n);
+  const PositionChoice pc = choose_positions(cols);
+  std::array<std::string, 3> out;
+  for (std::size_t k = 0; k < 3; ++k)
+    if (pc.has(k)) out[k] = cols[pc.column[k]];
+  return out;
 }
 
 AtomFileKind detect_atom_file_kind(const std::string& path) {

@@ -72,11 +72,13 @@ inline FrameRange parse_frames(const std::optional<std::int64_t>& frame, const s
   return r;
 }
 
-/// Frames of a dump or the configuration of a data file.
+/// Frames of a dump or the configuration of a data file. A dump frame must hold what `needs`
+/// asks for (by default positions along x, y, z and at least one atom), else InputError.
 inline std::vector<atomistic::Atoms> read_configurations(const std::string& path,
                                                          const std::optional<std::int64_t>& frame,
                                                          const std::string& frames,
-                                                         std::string* units) {
+                                                         std::string* units,
+                                                         const atomistic::FrameNeeds& needs = {}) {
   std::vector<atomistic::Atoms> out;
   if (atomistic::detect_atom_file_kind(path) == atomistic::AtomFileKind::data) {
     (void)parse_frames(frame, frames, 1, path);
@@ -87,7 +89,7 @@ inline std::vector<atomistic::Atoms> read_configurations(const std::string& path
   if (units) *units = dump.units();
   const auto r = parse_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path);
   for (std::int64_t f = r.first; f < r.last; f += r.step)
-    out.push_back(dump.frame(static_cast<std::size_t>(f)));
+    out.push_back(dump.frame(static_cast<std::size_t>(f), needs));
   return out;
 }
 

@@ -50,12 +50,30 @@ int run(const Options& o) {
   if (o.order && o.samples)
     throw InputError("give one of --order and --samples").key("--order/--samples");
   std::string dump_units;
+  atomistic::FrameNeeds needs;  // positions x y z, types; ids to match atoms across frames
+  needs.type = true;
+  needs.id = !o.frames.empty();
+  needs.operation = "pdcg atoms2pd";
   std::vector<atomistic::Atoms> frames =
-      bu::read_configurations(o.input, o.frame, o.frames, &dump_units);
+      bu::read_configurations(o.input, o.frame, o.frames, &dump_units, needs);
   atomistic::Atoms& ref = frames.front();
   int ntypes = ref.ntypes;
-  if (ntypes == 0 && !ref.type.empty())
-    ntypes = *std::max_element(ref.type.begin(), ref.type.end());
+  if (ntypes == 0 && !ref.type.empty()) {
+    // a dump does not declare its type count: the largest type stands for it
+    const auto top = std::max_element(ref.type.begin(), ref.type.end());
+    ntypes = *top;
+    // per-type-pair tables hold ntypes² entries: 10⁴ types are 10⁸ per coefficient
+    constexpr int kMaxTypes = 10000;
+    if (ntypes > kMaxTypes)
+      throw InputError("atom type too large for a dump without a declared type count")
+          .source(o.input)
+          .key(fmt::format("type of atom id {}",
+                           ref.id[static_cast<std::size_t>(top - ref.type.begin())]))
+          .value(std::to_string(ntypes))
+          .expected(fmt::format("types numbered 1..N with N <= {} (LAMMPS numbers types 1..N)",
+                                kMaxTypes))
+          .fix("renumber the types (LAMMPS `set type`), or give a data file");
+  }
   atomistic::PotentialSpec spec = atomistic::read_potential_commands(o.potential, ntypes);
   const bu::Periodicity periodicity =
       bu::resolve_periodicity(o.input, ref.box.periodic, spec, o.boundary);

@@ -100,11 +100,21 @@ int run_trajectory(const Options& o) {
                                 i1.timestep - i0.timestep))
           .fix("select an evenly spaced range with --frames A:B:S");
   }
+  // A trajectory along one axis needs the positions along that axis and the measured component
+  // (a 1D chain dumped as `id xu vx` is enough along x); ids match atoms between frames.
+  pdcg::atomistic::FrameNeeds needs;
+  needs.position = {false, false, false};
+  needs.position[static_cast<std::size_t>(axis_index(o.axis, "--axis"))] = true;
+  needs.position[static_cast<std::size_t>(
+      axis_index(o.component.empty() ? o.axis : o.component, "--component"))] = true;
+  needs.id = true;
+  needs.operation = "pdcg dispersion --trajectory";
+  for (auto i : idx) reader.require(i, needs);  // before reading any frame
   std::vector<pdcg::atomistic::Atoms> frames;
   frames.reserve(idx.size());
   pdcg::Progress progress("frames", idx.size());
   for (auto i : idx) {
-    frames.push_back(reader.frame(i));
+    frames.push_back(reader.frame(i, needs));
     progress.update(frames.size());
   }
   progress.finish();

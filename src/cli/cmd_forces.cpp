@@ -27,7 +27,10 @@ int run(const Options& o) {
     if (o.frame) throw InputError("--frame needs --deformed").key("--frame");
     e = ev.reference();
   } else {
-    auto conf = bu::read_configurations(o.deformed, o.frame, "", nullptr);
+    atomistic::FrameNeeds needs;  // positions x y z and ids (matched with the body's atoms)
+    needs.id = true;
+    needs.operation = "pdcg forces --deformed";
+    auto conf = bu::read_configurations(o.deformed, o.frame, "", nullptr, needs);
     Eigen::Matrix3d hy;
     const auto y = bu::deformed_positions(b, std::move(conf.front()), o.deformed, hy);
     e = ev.deformed(y, hy);

@@ -42,6 +42,7 @@ struct Summary {
   std::map<std::string, std::int64_t> counts;
   std::vector<std::string> sections;
   bool natoms_varies = false;
+  std::string no_types;  ///< why `types` is empty (zero atoms, no type column)
 };
 
 void collect_types(const Atoms& a, Summary& s) {
@@ -74,6 +75,14 @@ Summary summarize(const std::string& path) {
     s.columns = dump.columns();
     s.units = dump.units();
     collect_types(dump.frame(0), s);  // types and masses from the first frame only
+    if (s.natoms == 0)
+      s.no_types = fmt::format(
+          "none: frame 0 (timestep {}) has zero atoms ({}:{}: ITEM: NUMBER "
+          "OF ATOMS 0)",
+          s.first_step, path, dump.info(0).natoms_line);
+    else if (s.types.empty())
+      s.no_types = fmt::format("(no type column: {}:{}: ITEM: ATOMS {})", path,
+                               dump.info(0).atoms_line - 1, fmt::join(s.columns, " "));
   } else {
     const DataFile d = read_data(path);
     s.kind = "data";
@@ -87,6 +96,9 @@ Summary summarize(const std::string& path) {
     s.counts = d.counts;
     s.sections = d.sections;
     collect_types(d.atoms, s);
+    if (s.types.empty())
+      s.no_types = s.natoms == 0 ? fmt::format("none: {} has zero atoms", path)
+                                 : std::string("(no type column)");
   }
   return s;
 }
@@ -179,7 +191,7 @@ void print_text(const std::string& path, const Summary& s) {
   for (const auto& [type, info] : s.types)
     types += fmt::format("{}{}: {} atoms{}", types.empty() ? "" : "; ", type, info.count,
                          std::isfinite(info.mass) ? fmt::format(", mass {}", info.mass) : "");
-  std::printf("  types:    %s\n", types.empty() ? "(no type column)" : types.c_str());
+  std::printf("  types:    %s\n", types.empty() ? s.no_types.c_str() : types.c_str());
   std::printf("  box:      lo (%s)  hi (%s)\n",
               fmt::format("{}, {}, {}", b.lo.x(), b.lo.y(), b.lo.z()).c_str(),
               fmt::format("{}, {}, {}", b.hi.x(), b.hi.y(), b.hi.z()).c_str());

@@ -44,8 +44,14 @@
 /// where H = [a b c] is the box matrix of box.hpp. Atoms::x therefore holds
 /// unwrapped positions whenever the dump allows it; the image flags are kept in
 /// Atoms::image when the dump has `ix iy iz`. Position columns of the other
-/// kinds stay available by name in Atoms::extra. A dump without any complete
-/// position set gives an empty Atoms::x.
+/// kinds stay available by name in Atoms::extra. Without a complete set, each
+/// axis takes the first of its own columns found in the same order (x from
+/// `xu`, `x`, `xsu`, `xs`; y, z alike), so `xs yu zu` is complete too (a tilted
+/// box accepts fractional columns only as a complete `xs ys zs` / `xsu ysu zsu`
+/// set). frame(n) gives an empty Atoms::x unless all three axes are present;
+/// frame(n, needs) gives positions when the axes `needs` asks for are present,
+/// with any other, absent axis at the box centre, and refuses the frame with an
+/// InputError naming the missing columns otherwise.
 ///
 /// Other columns: `id`, `type`, `mol` → molecule, `q` → charge, `mass`,
 /// `vx vy vz` → v, `fx fy fz` → f (each vector only when all three are
@@ -54,6 +60,7 @@
 /// Every frame is sorted by atom id (duplicate ids are an InputError).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -74,7 +81,18 @@ struct DumpFrameInfo {
   std::uint64_t atoms_offset = 0;  ///< byte offset of its first atom line
   long line = 0;                   ///< line number of the frame's first ITEM line
   long atoms_line = 0;             ///< line number of its first atom line
+  long natoms_line = 0;            ///< line number of its `ITEM: NUMBER OF ATOMS` value
   std::size_t column_set = 0;      ///< index into DumpReader::column_sets()
+};
+
+/// What an operation needs from a frame (DumpReader::require, DumpReader::frame(n, needs)).
+struct FrameNeeds {
+  /// Axes whose positions the operation uses (a 1D trajectory along x needs x only).
+  std::array<bool, 3> position{true, true, true};
+  bool type = false;  ///< the `type` column
+  bool id = false;    ///< the `id` column (atoms matched by id, not by file order)
+  bool atoms = true;  ///< at least one atom
+  std::string operation = "this operation";  ///< named in the message, e.g. "pdcg atoms2pd"
 };
 
 class DumpReader {
@@ -109,6 +127,16 @@ class DumpReader {
   /// duplicate atom id), naming file and line. Not thread-safe with respect to
   /// concurrent calls on the same reader (it serialises them internally).
   Atoms frame(std::size_t n) const;
+  /// Frame n for an operation that needs `needs`: require(n, needs), then the frame with
+  /// Atoms::x (3N) holding the needed axes; an axis that is neither needed nor in the dump is
+  /// set to the box centre (the same value in every frame).
+  Atoms frame(std::size_t n, const FrameNeeds& needs) const;
+  /// Throws InputError (file, the line of frame n's `ITEM: ATOMS`, the missing columns, the
+  /// dump command to write instead) unless frame n holds what `needs` asks for.
+  void require(std::size_t n, const FrameNeeds& needs) const;
+  /// The column that gives the position along x, y, z in frame n (e.g. {"xs", "yu", ""}),
+  /// empty for an axis without one.
+  std::array<std::string, 3> position_columns(std::size_t n) const;
   /// The last frame.
   Atoms last() const { return frame(nframes() - 1); }
 
