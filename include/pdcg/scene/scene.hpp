@@ -49,6 +49,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -90,6 +91,9 @@ struct ModelGeometry {
 
 struct Scene {
   std::filesystem::path source;
+  /// Line (1-based) of every key of the scene file ("boundary[right].region.x_min"), so that
+  /// errors found after parsing (regions, solver set-up) still name file:line.
+  std::map<std::string, long> key_lines;
   UnitStyle units = UnitStyle::none;
   int dimension = 2;
   std::string plane = "strain";
