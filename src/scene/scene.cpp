@@ -406,9 +406,8 @@ Scene load_scene(const std::filesystem::path& file) {
   // boundary
   const auto b = root["boundary"];
   if (!b || !b.IsSequence())
-    throw InputError("missing or malformed section")
-        .source(c.file)
-        .key("boundary")
+    throw(b ? c.err(b, "boundary", "expected a list")
+            : InputError("missing section").source(c.file).key("boundary"))
         .expected("a list of {name, region, displacement|traction}");
   std::set<std::string> names;
   const char* axes[3] = {"x", "y", "z"};

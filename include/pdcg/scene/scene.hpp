@@ -34,7 +34,9 @@
 /// assembled K; docs/solver.md §4). Regions select points by
 /// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
 /// Displacement and traction values are numbers (constant) or expressions in t.
-/// Unknown keys are errors listing the valid ones.
+/// Unknown keys are errors listing the valid ones. Every numeric key is checked for type, sign,
+/// range and finiteness (one table, src/scene/checks.cpp), contradictions between keys and with
+/// the body are refused, all before the output directory is created (docs/solver.md §6).
 /// Effects (issue 7, docs/effects.md):
 /// \code{.yaml}
 ///   effects: [rupture]
