@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "pdcg/core/log.hpp"
@@ -18,7 +19,11 @@ Progress::Progress(std::string label, std::uint64_t total, double plain_interval
       terminal_(isatty(fileno(stderr)) != 0) {}
 
 Progress::~Progress() {
-  if (!finished_ && done_ > 0) finish();
+  // Not finished: the loop was left early (an exception, a failed step). The last line then
+  // shows how far it got, never the total (a failed run must not read 100 %).
+  if (finished_ || log::level() > log::Level::info) return;
+  if (terminal_ && drawn_) std::fprintf(stderr, "\r\033[K");
+  std::fprintf(stderr, "%s\n", status(done_, "stopped").c_str());
 }
 
 std::string Progress::status(std::uint64_t done, const std::string& extra) const {
@@ -26,8 +31,10 @@ std::string Progress::status(std::uint64_t done, const std::string& extra) const
   const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
   std::string s;
   if (total_ > 0) {
+    // floor, not round: 199/200 is 99 %, only a complete loop reads 100 %
     s = fmt::format("{} {}/{} ({:.0f}%) {:.3g}/s", label_, done, total_,
-                    100.0 * static_cast<double>(done) / static_cast<double>(total_), rate);
+                    std::floor(100.0 * static_cast<double>(done) / static_cast<double>(total_)),
+                    rate);
     if (rate > 0 && done < total_)
       s += fmt::format(" ETA {:.1f} s", static_cast<double>(total_ - done) / rate);
   } else {

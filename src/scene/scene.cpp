@@ -12,6 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include "checks.hpp"
+#include "csv_units.hpp"
 #include "pdcg/body/cauchy_born_material.hpp"
 #include "pdcg/body/model_file.hpp"
 #include "pdcg/core/error.hpp"
@@ -275,6 +277,9 @@ Scene load_scene(const std::filesystem::path& file) {
   c.keys(root, "",
          {"units", "dimension", "plane", "geometry", "horizon", "material", "boundary", "loading",
           "solver", "output", "effects", "inertia", "damping", "rupture", "initial"});
+  // every number first, from one table (src/scene/checks.cpp): type, sign, range, finite
+  checks::numbers(root, c.file);
+  s.key_lines = checks::key_lines(root);
   if (root["units"]) {
     try {
       s.units = parse_unit_style(c.text(root["units"], "units"), file.string());
@@ -341,9 +346,6 @@ Scene load_scene(const std::filesystem::path& file) {
         solver::Hole hole;
         hole.center = c.vec(h["center"], "geometry.holes[].center", d);
         hole.radius = c.number(h["radius"], "geometry.holes[].radius");
-        if (!(hole.radius > 0))
-          throw c.err(h["radius"], "geometry.holes[].radius", "radius must be positive")
-              .value(h["radius"].Scalar());
         s.geometry.holes.push_back(hole);
       }
     }
@@ -392,9 +394,6 @@ Scene load_scene(const std::filesystem::path& file) {
       if (m["shear_modulus"])
         s.shear_modulus = c.number(m["shear_modulus"], "material.shear_modulus");
       if (m["bulk_modulus"]) s.bulk_modulus = c.number(m["bulk_modulus"], "material.bulk_modulus");
-      if (!(s.shear_modulus > 0) || !(s.bulk_modulus > 0))
-        throw c.err(m, "material", "moduli must be positive")
-            .value(fmt::format("mu = {}, K = {}", s.shear_modulus, s.bulk_modulus));
     }
   } else {
     throw InputError("missing section")
@@ -407,9 +406,8 @@ Scene load_scene(const std::filesystem::path& file) {
   // boundary
   const auto b = root["boundary"];
   if (!b || !b.IsSequence())
-    throw InputError("missing or malformed section")
-        .source(c.file)
-        .key("boundary")
+    throw(b ? c.err(b, "boundary", "expected a list")
+            : InputError("missing section").source(c.file).key("boundary"))
         .expected("a list of {name, region, displacement|traction}");
   std::set<std::string> names;
   const char* axes[3] = {"x", "y", "z"};
@@ -419,7 +417,8 @@ Scene load_scene(const std::filesystem::path& file) {
     bc.name =
         e["name"] ? c.text(e["name"], "boundary[].name") : fmt::format("set{}", s.boundary.size());
     if (!names.insert(bc.name).second)
-      throw c.err(e["name"], "boundary[].name", "duplicate boundary name").value(bc.name);
+      throw c.err(e["name"] ? e["name"] : e, "boundary[].name", "duplicate boundary name")
+          .value(bc.name);
     const std::string w = "boundary[" + bc.name + "]";
     if (!e["region"])
       throw c.err(e, w + ".region", "missing key")
@@ -450,7 +449,7 @@ Scene load_scene(const std::filesystem::path& file) {
         throw c.err(tn, w + ".traction", "wrong traction vector")
             .expected(fmt::format("a list of {} numbers or expressions in t", d));
       for (int a = 0; a < d; ++a)
-        bc.value[a] = value_fn(c, tn[a], w + ".traction", bc.value_text[a]);
+        bc.value[a] = value_fn(c, tn[a], fmt::format("{}.traction[{}]", w, a), bc.value_text[a]);
     } else {
       throw c.err(e, w, "boundary condition without displacement or traction")
           .expected("displacement: {x: ...} or traction: [...]");
@@ -460,9 +459,6 @@ Scene load_scene(const std::filesystem::path& file) {
   if (const auto l = root["loading"]) {
     c.keys(l, "loading", {"steps"});
     if (l["steps"]) s.steps = c.integer(l["steps"], "loading.steps");
-    if (s.steps < 1)
-      throw c.err(l["steps"], "loading.steps", "need at least one step")
-          .value(std::to_string(s.steps));
   }
   s.newton.steps = s.steps;
   if (const auto v = root["solver"]) {
@@ -516,8 +512,6 @@ Scene load_scene(const std::filesystem::path& file) {
                                         {"bond-associated", "classical"}) == "classical"
                                    ? solver::Correspondence::classical
                                    : solver::Correspondence::bond_associated;
-    if (!(s.newton.tolerance > 0))
-      throw c.err(v["tolerance"], "solver.tolerance", "tolerance must be positive");
     // The weak form's tangent is unsymmetric and the inertia of its symmetric part is no
     // stability test: on the plate with a hole in tension it has 2 (dx = 0.05) / 4 (0.025)
     // negative eigenvalues already at d = 0.01 (docs/validation.md §2), a false alarm.
@@ -535,18 +529,9 @@ Scene load_scene(const std::filesystem::path& file) {
     c.keys(o, "output", {"directory", "every", "series_every", "checkpoint_every"});
     if (o["directory"]) s.output_directory = c.text(o["directory"], "output.directory");
     if (o["every"]) s.output_every = c.integer(o["every"], "output.every");
-    if (s.output_every < 1) throw c.err(o["every"], "output.every", "must be at least 1");
-    if (o["series_every"]) {
-      s.series_every = c.integer(o["series_every"], "output.series_every");
-      if (s.series_every < 1)
-        throw c.err(o["series_every"], "output.series_every", "must be at least 1");
-    }
-    if (o["checkpoint_every"]) {
+    if (o["series_every"]) s.series_every = c.integer(o["series_every"], "output.series_every");
+    if (o["checkpoint_every"])
       s.checkpoint_every = c.integer(o["checkpoint_every"], "output.checkpoint_every");
-      if (s.checkpoint_every < 1)
-        throw c.err(o["checkpoint_every"], "output.checkpoint_every", "must be at least 1")
-            .fix("remove checkpoint_every for no checkpoints");
-    }
   }
   // effects (docs/effects.md)
   if (const auto e = root["effects"]) {
@@ -593,10 +578,6 @@ Scene load_scene(const std::filesystem::path& file) {
       s.integrator = c.choice(in["integrator"], "inertia.integrator", {"velocity-verlet"});
     if (in["time_step"] && !(in["time_step"].IsScalar() && in["time_step"].Scalar() == "auto")) {
       s.time_step = c.number(in["time_step"], "inertia.time_step");
-      if (!(s.time_step > 0))
-        throw c.err(in["time_step"], "inertia.time_step", "the time step must be positive")
-            .value(in["time_step"].Scalar())
-            .expected("auto or a positive number");
       if (in["safety"])
         throw c
             .err(in["safety"], "inertia.safety",
@@ -604,20 +585,11 @@ Scene load_scene(const std::filesystem::path& file) {
                  "limit); with a given time_step it would be ignored")
             .fix("remove safety, or set time_step: auto");
     }
-    if (in["safety"]) {
-      s.safety = c.number(in["safety"], "inertia.safety");
-      if (!(s.safety > 0 && s.safety <= 1))
-        throw c.err(in["safety"], "inertia.safety", "safety factor outside (0, 1]")
-            .value(in["safety"].Scalar())
-            .expected("0 < safety ≤ 1, e.g. 0.8 (1 is the stable limit itself)");
-    }
+    if (in["safety"]) s.safety = c.number(in["safety"], "inertia.safety");
     if (!in["end_time"])
       throw c.err(in, "inertia.end_time", "missing key")
           .expected("the simulated time at which the run ends, e.g. end_time: 10.0");
     s.end_time = c.number(in["end_time"], "inertia.end_time");
-    if (!(s.end_time > 0))
-      throw c.err(in["end_time"], "inertia.end_time", "end_time must be positive")
-          .value(in["end_time"].Scalar());
     if (in["allow_unstable"]) {
       try {
         s.allow_unstable = in["allow_unstable"].as<bool>();
@@ -663,10 +635,6 @@ Scene load_scene(const std::filesystem::path& file) {
         throw c.err(dn, "damping.coefficient", "missing key")
             .expected("the viscous coefficient c (1/time) of the force −c M v, e.g. 0.1");
       s.damping_coefficient = c.number(dn["coefficient"], "damping.coefficient");
-      if (!(s.damping_coefficient > 0))
-        throw c.err(dn["coefficient"], "damping.coefficient", "the coefficient must be positive")
-            .value(dn["coefficient"].Scalar())
-            .fix("remove damping for undamped motion");
     } else if (dn["coefficient"]) {
       throw c
           .err(dn["coefficient"], "damping.coefficient",
@@ -721,12 +689,8 @@ Scene load_scene(const std::filesystem::path& file) {
                "check_every is the number of time steps between rupture checks of a dynamic "
                "run; a quasi-static run checks after every load step until no bond breaks")
           .fix("remove check_every, or add inertia to effects (dynamic fracture)");
-    if (r["check_every"]) {
+    if (r["check_every"])
       s.rupture_options.check_every = c.integer(r["check_every"], "rupture.check_every");
-      if (s.rupture_options.check_every < 1)
-        throw c.err(r["check_every"], "rupture.check_every", "must be at least 1")
-            .value(r["check_every"].Scalar());
-    }
     if (s.inertia) {
       s.rupture_options.anchor_detached = false;  // fragments move on
       // Dynamic fracture switches nearly singular rebuilt stencils off earlier: their
@@ -734,11 +698,8 @@ Scene load_scene(const std::filesystem::path& file) {
       // shrank 12× with 1e-3, 4× with 1e-2; docs/effects.md §3c).
       s.rupture_options.min_reciprocal_condition = 1e-2;
     }
-    if (r["max_passes"]) {
+    if (r["max_passes"])
       s.rupture_options.max_passes = c.integer(r["max_passes"], "rupture.max_passes");
-      if (s.rupture_options.max_passes < 1)
-        throw c.err(r["max_passes"], "rupture.max_passes", "must be at least 1");
-    }
     const bool stretch = s.rupture_options.criterion != solver::RuptureCriterion::energy_density;
     if (stretch && !(s.rupture_options.critical > 1.0))
       throw c
@@ -761,6 +722,7 @@ Scene load_scene(const std::filesystem::path& file) {
           .value("classical")
           .fix("remove solver.correspondence or set it to bond-associated");
   }
+  checks::consistency(s);  // contradictions between keys (empty regions, non-finite values)
   // relative output directory: relative to the working directory (like every CLI path)
   return s;
 }
@@ -943,9 +905,7 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
     if (in) out.push_back(static_cast<int>(i));
   }
   if (out.empty())
-    throw InputError("the region selects no point")
-        .source(s.source.string())
-        .key("boundary[" + bc.name + "].region")
+    throw checks::error(s, "boundary[" + bc.name + "].region", "the region selects no point")
         .expected(
             fmt::format("bounds that contain grid points (cell centres or vertices, spacing {}; "
                         "bounds are inclusive with a tolerance of half a spacing)",
@@ -1161,6 +1121,13 @@ void maybe_fail_after(long step) {
   }
 }
 
+/// An InputError of the solver set-up as an error of the scene file (file:line of its key).
+InputError& with_line(const Scene& s, InputError& e) {
+  e.source(s.source.string());
+  if (const long l = checks::line_of(s, e.key_name()); l > 0 && e.line_number() == 0) e.line(l);
+  return e;
+}
+
 Eigen::VectorXd vec_of(const std::vector<double>& v) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
@@ -1171,8 +1138,8 @@ std::vector<double> std_of(const Eigen::VectorXd& v) { return {v.data(), v.data(
 void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                  const std::optional<Restart>& restart, solver::Discretization& body,
                  solver::Model& model, const solver::Material& material,
-                 std::vector<solver::DisplacementSet> dsets,
-                 std::vector<solver::TractionSet> tsets) {
+                 std::vector<solver::DisplacementSet> dsets, std::vector<solver::TractionSet> tsets,
+                 const std::function<void()>& begin_outputs) {
   const int d = s.dimension;
   const std::size_t N = body.size();
   if (restart && restart->kind != "dynamic")
@@ -1193,8 +1160,9 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     // tractions: nominal t*(t) with t the time, as the displacement values of dynamic scenes
     ex = std::make_unique<solver::ExplicitSolver>(model, dsets, std::move(tsets), eo);
   } catch (InputError& e) {
-    throw e.source(s.source.string());
+    throw with_line(s, e);  // e.g. a time step above the stable limit: refused, nothing written
   }
+  begin_outputs();
   // Steps: auto → Δt = end_time / ⌈end_time / (safety Δt_crit)⌉ (ends exactly at end_time,
   // still ≤ safety Δt_crit); a given Δt is kept and the last step may pass end_time.
   const double dt0 = ex->time_step();
@@ -1259,9 +1227,10 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     written = restart->written;
     first = restart->step + 1;
   } else {
-    csv << "step,t,kinetic,internal,total,total_verlet";
-    for (const auto& ds : dsets)
-      for (int a = 0; a < d; ++a) csv << "," << ds.name << "_f" << axes[a];
+    csv << csv_units_comment(s, true) << "step,t,kinetic,internal,total,total_verlet";
+    for (const auto& ds : dsets)  // reactions of the prescribed components only
+      for (int a = 0; a < d; ++a)
+        if (ds.component[a]) csv << "," << ds.name << "_f" << axes[a];
     if (!s.damping_type.empty()) csv << ",damping_coefficient";
     if (rupture) csv << ",broken_bonds";
     csv << "\n";
@@ -1275,7 +1244,8 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                        ex->modified_kinetic_energy() + ei);
     for (std::size_t i = 0; i < dsets.size(); ++i) {
       const Vec3 r = ex->reaction(i);
-      for (int a = 0; a < d; ++a) csv << "," << fmt::format("{:.17g}", r(a));
+      for (int a = 0; a < d; ++a)
+        if (dsets[i].component[a]) csv << "," << fmt::format("{:.17g}", r(a));
     }
     if (!s.damping_type.empty()) csv << "," << fmt::format("{:.17g}", ex->damping_coefficient());
     if (rupture) csv << "," << body.broken_bonds();
@@ -1437,12 +1407,14 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       ro.restart ? *ro.restart : (ro.output ? *ro.output : s.output_directory);
   std::optional<Restart> restart;
   if (ro.restart) restart = load_checkpoint(s, dir);
-  std::filesystem::create_directories(dir);
-  {
+  // Everything is checked before the output directory and scene.resolved.yaml exist: a refused
+  // scene leaves nothing behind (docs/solver.md §6).
+  auto begin_outputs = [&] {
+    std::filesystem::create_directories(dir);
     io::AtomicTextFile f(dir / "scene.resolved.yaml");
     f.stream() << resolved_yaml(s);
     f.commit();
-  }
+  };
   auto body = make_discretization(s);
   log::info("body: {} points, spacing {}, horizon {}", body.size(), body.spacing(), body.horizon());
   const auto material = make_material(s);
@@ -1465,8 +1437,10 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       dsets.push_back(std::move(ds));
     }
   }
+  checks::boundary_sets(s, body, dsets);
   if (s.inertia) {
-    run_dynamic(s, dir, restart, body, model, *material, std::move(dsets), std::move(tsets));
+    run_dynamic(s, dir, restart, body, model, *material, std::move(dsets), std::move(tsets),
+                begin_outputs);
     return;
   }
   solver::NewtonOptions nopt = s.newton;
@@ -1475,7 +1449,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   try {
     solver_ptr = std::make_unique<solver::StaticSolver>(model, dsets, tsets, nopt);
   } catch (InputError& e) {
-    throw e.source(s.source.string());
+    throw with_line(s, e);
   }
   solver::StaticSolver& solver = *solver_ptr;
   // Rupture: only when the scene lists it (no broken flags, no checks otherwise).
@@ -1485,6 +1459,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     log::info("rupture: {} > {} breaks a bond; staggered re-equilibration at fixed load",
               solver::to_string(s.rupture_options.criterion), s.rupture_options.critical);
   }
+  begin_outputs();
   const int d = s.dimension;
   const std::size_t N = body.size();
   std::vector<std::pair<int, double>> written;
@@ -1510,14 +1485,16 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     written = restart->written;
     first = static_cast<int>(restart->step) + 1;
   } else {
-    csv << "step,t";
-    for (const auto& ds : dsets)
-      for (int a = 0; a < d; ++a) csv << "," << ds.name << "_f" << axes[a];
+    csv << csv_units_comment(s, false) << "step,t";
+    for (const auto& ds : dsets)  // reactions of the prescribed components only
+      for (int a = 0; a < d; ++a)
+        if (ds.component[a]) csv << "," << ds.name << "_f" << axes[a];
     if (rupture) csv << ",broken_bonds";
     csv << "\n";
     csv << "0,0";
     for (std::size_t i = 0; i < dsets.size(); ++i)
-      for (int a = 0; a < d; ++a) csv << ",0";
+      for (int a = 0; a < d; ++a)
+        if (dsets[i].component[a]) csv << ",0";
     if (rupture) csv << ",0";
     csv << "\n";
   }
@@ -1533,7 +1510,8 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     csv << rep.step << "," << fmt::format("{:.10g}", rep.t);
     for (std::size_t i = 0; i < dsets.size(); ++i) {
       const Vec3 r = solver.reaction(i);
-      for (int a = 0; a < d; ++a) csv << "," << fmt::format("{:.10g}", r(a));
+      for (int a = 0; a < d; ++a)
+        if (dsets[i].component[a]) csv << "," << fmt::format("{:.10g}", r(a));
     }
     if (rupture) csv << "," << body.broken_bonds();
     csv << "\n";

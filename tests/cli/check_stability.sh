@@ -57,6 +57,10 @@ check on 1 'loss of stability at load factor 0\.2:.*1 negative eigenvalue' on.ya
 if [ "$(tail -n 1 on/reactions.csv | cut -d, -f1,2)" != "3,0.15" ]; then
   echo "FAIL on-kept: last row of reactions.csv is '$(tail -n 1 on/reactions.csv)', expected step 3 at t = 0.15"; fail=1
 else echo "ok   on-kept"; fi
+# the failed run's last progress line shows where it stopped, never 100 %
+if grep -q '(100%)' on.log || ! grep -q 'load steps 3/20 (15%).*stopped' on.log; then
+  echo "FAIL on-progress: the failed run's progress line:"; grep 'load steps' on.log; fail=1
+else echo "ok   on-progress"; fi
 if grep -q 'check_stability: true' on/scene.resolved.yaml; then echo "ok   on-resolved"
 else echo "FAIL on-resolved: check_stability missing from scene.resolved.yaml"; fail=1; fi
 

@@ -147,7 +147,7 @@ def run_pdcg(pdcg, work, h, m, d, steps, tol, timeout=None, linear="umfpack", la
     R, points = float("nan"), 0
     if rc == 0:
         with open(os.path.join(wd, "out", "reactions.csv")) as f:
-            rows = list(csv.DictReader(f))
+            rows = list(csv.DictReader(l for l in f if not l.startswith("#")))  # units line
         R = float(rows[-1]["right_fx"])
         for line in open(os.path.join(wd, "run.log")):
             if "body:" in line and " points" in line:  # "body: N points, spacing ..."

@@ -28,7 +28,7 @@ with open(os.path.join(out, "walltime.txt")) as f:
 
 def read(path):
     with open(path) as f:
-        r = list(csv.DictReader(f))
+        r = list(csv.DictReader(l for l in f if not l.startswith("#")))  # units line
     return {k: np.array([float(x[k]) for x in r]) for k in r[0]}
 
 

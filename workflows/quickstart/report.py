@@ -60,7 +60,7 @@ def sheet_section(summary):
     plt.close(fig)
 
     # PD stress–strain from the reactions of the pulled grip
-    rows = list(csv.DictReader(open("sheet/pd/reactions.csv")))
+    rows = list(csv.DictReader(l for l in open("sheet/pd/reactions.csv") if not l.startswith("#")))
     t = np.array([float(r["t"]) for r in rows])
     fy = np.array([float(r["top_fy"]) for r in rows])
     broken = np.array([float(r["broken_bonds"]) for r in rows])
@@ -232,7 +232,7 @@ lines += [
     "",
 ]
 if os.path.exists("plate/reactions.csv"):
-    rows = list(csv.DictReader(open("plate/reactions.csv")))
+    rows = list(csv.DictReader(l for l in open("plate/reactions.csv") if not l.startswith("#")))
     last = rows[-1]
     lines += ["## 4. Continuum: BA correspondence solver",
               f"Plate with a hole (plane strain Neo-Hookean), {len(rows)} load steps; final reactions: " +

@@ -40,7 +40,7 @@ for c in ${CASES:-edge centre edge_c200 edge_c400}; do
   OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} timeout "${RUN_TIMEOUT:-150}" \
     "$PDCG_BUILD/pdcg" run "$OUT/$c.yaml" -o "$OUT/$c" >"$OUT/$c.log" 2>&1
   rc=$?
-  echo "$c: exit $rc after $(($(date +%s) - start)) s, $(($(wc -l <"$OUT/$c/reactions.csv") - 2)) steps written" \
+  echo "$c: exit $rc after $(($(date +%s) - start)) s, $(($(grep -vc '^#' "$OUT/$c/reactions.csv") - 2)) steps written" \
     | tee -a "$OUT/runs.txt"
   grep -E "numerical failure|adaptive dynamic relaxation:" "$OUT/$c.log" | cut -c1-300 | tail -3
 done

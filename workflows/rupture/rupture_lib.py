@@ -26,7 +26,7 @@ DAMAGE_ON_CRACK = 0.25
 
 def read_reactions(run_dir):
     with open(os.path.join(run_dir, "reactions.csv")) as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(l for l in f if not l.startswith("#")))  # units line
     out = {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
     return out
 

@@ -24,7 +24,9 @@ class Progress {
 
   /// Records that `done` units are finished (cheap when nothing is drawn).
   void update(std::uint64_t done, const std::string& extra = {});
-  /// Prints the final line (called by the destructor if not called).
+  /// Prints the final line of a completed loop (done = total). Not called (the loop was left by
+  /// an exception or a failure): the destructor prints the last count with "stopped", so a
+  /// failed run never reads 100 %.
   void finish(const std::string& extra = {});
 
   /// The text of the current status, e.g. "steps 40/100 (40%) 12.3/s ETA 4.9 s".

@@ -34,7 +34,9 @@
 /// assembled K; docs/solver.md §4). Regions select points by
 /// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
 /// Displacement and traction values are numbers (constant) or expressions in t.
-/// Unknown keys are errors listing the valid ones.
+/// Unknown keys are errors listing the valid ones. Every numeric key is checked for type, sign,
+/// range and finiteness (one table, src/scene/checks.cpp), contradictions between keys and with
+/// the body are refused, all before the output directory is created (docs/solver.md §6).
 /// Effects (issue 7, docs/effects.md):
 /// \code{.yaml}
 ///   effects: [rupture]
@@ -49,6 +51,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -90,6 +93,9 @@ struct ModelGeometry {
 
 struct Scene {
   std::filesystem::path source;
+  /// Line (1-based) of every key of the scene file ("boundary[right].region.x_min"), so that
+  /// errors found after parsing (regions, solver set-up) still name file:line.
+  std::map<std::string, long> key_lines;
   UnitStyle units = UnitStyle::none;
   int dimension = 2;
   std::string plane = "strain";

@@ -74,7 +74,7 @@ TEST(Effects, BadInputIsReported) {
   e = error_of("effects: [rupture]\nrupture: {criterion: principal_stretch, critical: 0.9}\n");
   EXPECT_TRUE(has(e, "must exceed 1")) << e;
   e = error_of("effects: [rupture]\nrupture: {criterion: energy_density, critical: 0}\n");
-  EXPECT_TRUE(has(e, "must be positive")) << e;
+  EXPECT_TRUE(has(e, "rupture.critical: out of range") && has(e, "energy density > 0")) << e;
   e = error_of("solver: {correspondence: classical}\neffects: [rupture]\nrupture: {critical: 2}\n");
   EXPECT_TRUE(has(e, "bond-associated")) << e;
 }
@@ -108,6 +108,7 @@ TEST(Effects, OutputsOnlyWhatTheSceneAsksFor) {
     EXPECT_FALSE(h5.exists("fields/damage"));
     std::ifstream csv(out0 / "reactions.csv");
     std::string header;
+    std::getline(csv, header);  // the units line
     std::getline(csv, header);
     EXPECT_FALSE(has(header, "broken"));
   }

@@ -210,7 +210,7 @@ output: {{directory: out, every: 2}}
       const fs::path out = kDir / fmt::format("out{}_{}", ny, k);
       fs::remove_all(out);
       scene::run_scene(s, out);
-      R[k++] = last_reactions(out)[4];
+      R[k++] = last_reactions(out)[3];  // step,t,left_fx,right_fx,pin_fy
     }
     dR[i++] = R[0] - R[1];
     std::printf(

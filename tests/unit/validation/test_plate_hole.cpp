@@ -57,7 +57,8 @@ std::vector<double> read_column(const fs::path& file, const std::string& name) {
   std::ifstream in(file);
   EXPECT_TRUE(in) << file;
   std::string line;
-  std::getline(in, line);
+  do std::getline(in, line);
+  while (line.rfind('#', 0) == 0);  // the units line
   std::vector<std::string> head;
   {
     std::stringstream ss(line);
