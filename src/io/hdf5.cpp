@@ -51,9 +51,15 @@ class Handle {
   herr_t (*close_)(hid_t) = nullptr;
 };
 
-/// Silences HDF5's own error stack printing; we report errors ourselves.
+/// Silences HDF5's own error stack printing; we report errors ourselves. No atexit clean-up:
+/// a file whose close failed (full disk) stays open inside HDF5, and HDF5 1.10's clean-up at
+/// exit flushes it again and crashes (SIGSEGV in H5F__close_cb). Every file pdcg opens is
+/// closed by its owner; the one that could not be is abandoned (its temporary is unlinked).
 struct QuietHdf5 {
-  QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+  QuietHdf5() {
+    H5dont_atexit();  // before any other HDF5 call
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const QuietHdf5 g_quiet;
 
@@ -85,20 +91,14 @@ Hdf5Failure hdf5_failure() {
   return f;
 }
 
-[[noreturn]] void fail(std::string_view what, const std::filesystem::path& file,
-                       std::string_view path) {
-  const auto f = hdf5_failure();
-  throw Error(fmt::format("HDF5: {} '{}' in {}{}", what, path, file.string(),
-                          f.text.empty() ? std::string() : " (" + f.text + ")"));
-}
-
 /// Writer side: an OS error (full disk, file size limit, ...) becomes the clear write error.
 [[noreturn]] void fail_write(std::string_view what, const AtomicPath& file, std::string_view path) {
   const auto f = hdf5_failure();
   if (f.os_error != 0)
     throw_write_error(file.final_path(), f.os_error,
                       fmt::format("{} '{}' (temporary {})", what, path, file.temporary().string()));
-  throw Error(fmt::format("HDF5: {} '{}' in {}{}", what, path, file.temporary().string(),
+  throw Error(fmt::format("HDF5 failed {} '{}' of {} (temporary {}){}", what, path,
+                          file.final_path().string(), file.temporary().string(),
                           f.text.empty() ? std::string() : " (" + f.text + ")"));
 }
 
@@ -170,9 +170,9 @@ struct H5Writer::Impl {
     Handle set(H5Dcreate2(file.get(), p.c_str(), memtype, space.get(), link_props.get(),
                           H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose);
-    if (!set.valid()) fail_write("cannot create dataset", path, dpath);
+    if (!set.valid()) fail_write("creating dataset", path, dpath);
     if (n > 0 && H5Dwrite(set.get(), memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-      fail_write("cannot write dataset", path, dpath);
+      fail_write("writing dataset", path, dpath);
     put_crc(set.get(), dpath, crc_of(data, n * H5Tget_size(memtype)));
   }
 
@@ -183,7 +183,7 @@ struct H5Writer::Impl {
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
     Handle a(H5Acreate2(set, kCrc, H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!a.valid() || H5Awrite(a.get(), H5T_NATIVE_INT64, &v) < 0)
-      fail_write("cannot write the checksum of", path, dpath);
+      fail_write("writing the checksum of", path, dpath);
   }
 
   Handle object_for_attribute(std::string_view object) {
@@ -193,7 +193,7 @@ struct H5Writer::Impl {
       const std::string p(object);
       Handle g(H5Gcreate2(file.get(), p.c_str(), link_props.get(), H5P_DEFAULT, H5P_DEFAULT),
                H5Gclose);
-      if (!g.valid()) fail_write("cannot open or create object", path, object);
+      if (!g.valid()) fail_write("creating group", path, object);
       return g;
     }
     return o;
@@ -207,7 +207,7 @@ struct H5Writer::Impl {
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
     Handle a(H5Acreate2(o.get(), n.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!a.valid() || H5Awrite(a.get(), type, value) < 0)
-      fail_write("cannot write attribute", path, std::string(object) + "@" + n);
+      fail_write("writing attribute", path, std::string(object) + "@" + n);
   }
 };
 
@@ -256,7 +256,7 @@ void H5Writer::write(std::string_view path, std::string_view text) {
                         H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
   if (!set.valid() || H5Dwrite(set.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &cs) < 0)
-    fail_write("cannot write string", impl_->path, path);
+    fail_write("writing string", impl_->path, path);
   impl_->put_crc(set.get(), path, crc_of(s.data(), s.size()));
 }
 void H5Writer::write_strings(std::string_view path, const std::vector<std::string>& lines) {
@@ -272,7 +272,7 @@ void H5Writer::write_strings(std::string_view path, const std::vector<std::strin
              H5Dclose);
   if (!set.valid() ||
       (n > 0 && H5Dwrite(set.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0))
-    fail_write("cannot write strings", impl_->path, path);
+    fail_write("writing strings", impl_->path, path);
   impl_->put_crc(set.get(), path, crc_of_strings(lines));
 }
 
@@ -290,9 +290,8 @@ void H5Writer::attribute(std::string_view object, std::string_view name, std::st
 }
 
 void H5Writer::commit() {
-  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0)
-    fail_write("cannot flush", impl_->path, "/");
-  if (H5Fclose(impl_->file.release()) < 0) fail_write("cannot close", impl_->path, "/");
+  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0) fail_write("flushing", impl_->path, "/");
+  if (H5Fclose(impl_->file.release()) < 0) fail_write("closing", impl_->path, "/");
   impl_->path.commit();
 }
 
