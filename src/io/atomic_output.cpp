@@ -214,7 +214,9 @@ void AtomicTextFile::commit() {
 
 // ---------------------------------------------------------------- checks
 
-void require_writable_directory(const std::filesystem::path& dir, std::string_view option) {
+namespace {
+void check_directory(const std::filesystem::path& dir, std::string_view option,
+                     const std::filesystem::path& file) {
   std::error_code ec;
   if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
     InputError e("the output directory is an existing file");
@@ -232,12 +234,19 @@ void require_writable_directory(const std::filesystem::path& dir, std::string_vi
     ::unlink(probe.c_str());
   }
   if (err != 0) {
-    InputError e("cannot write in the output directory");
+    InputError e(file.empty() ? "cannot write in the output directory"
+                              : "cannot write " + file.string() + " in its directory");
     if (!option.empty()) e.source(option);
     throw e.value(dir.string())
         .expected("a writable directory with free space")
         .fix(std::string(std::strerror(err)) + ": " + fix_for(err, dir));
   }
+}
+
+}  // namespace
+
+void require_writable_directory(const std::filesystem::path& dir, std::string_view option) {
+  check_directory(dir, option, {});
 }
 
 void require_writable_output(const std::filesystem::path& file, std::string_view option) {
@@ -248,7 +257,7 @@ void require_writable_output(const std::filesystem::path& file, std::string_view
     throw e.value(file.string()).expected("a file name").fix("add a file name, e.g. out/result.h5");
   }
   const auto dir = file.parent_path();
-  require_writable_directory(dir.empty() ? std::filesystem::path(".") : dir, option);
+  check_directory(dir.empty() ? std::filesystem::path(".") : dir, option, file);
 }
 
 int remove_stale_temporaries(const std::filesystem::path& dir) {

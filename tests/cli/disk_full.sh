@@ -212,6 +212,15 @@ if mount -t tmpfs -o ro,size=64k tmpfs "$ro" 2>/dev/null; then
     if [ $code = 2 ] && says "$out" "Read-only file system" && [ "$(wc -l <<<"$out")" = 1 ]; then
       ok "atoms2pd -o read-only: exit 2, the error is the only line (no LAMMPS run)"
     else bad "atoms2pd -o read-only: exit $code: $out"; fi
+    for c in "homogenize cu.h5 --kernel cubic-bspline --width 4.7 --spacing 3.0 -o $ro/hom.h5" \
+             "rescale cu.h5 --factor 3 -o $ro/res.h5" \
+             "dispersion cu.h5 --direction 1,0,0 -o $ro/d.csv" \
+             "md cu.h5 --steps 10 --dt 0.001 --thermo $ro/thermo.csv"; do
+      out=$("$pdcg" -v $c 2>&1); code=$?
+      if [ $code = 2 ] && says "$out" "Read-only file system" && [ "$(wc -l <<<"$out")" = 1 ]; then
+        ok "${c%% *} into read-only: exit 2, the error is the only line"
+      else bad "${c%% *} into read-only: exit $code: $out"; fi
+    done
   fi
   umount "$ro"
 else
