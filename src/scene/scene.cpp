@@ -1107,8 +1107,9 @@ Restart load_checkpoint(const Scene& s, const std::filesystem::path& dir) {
     throw InputError(std::string("the checkpoint is truncated or corrupt: ") + e.what())
         .source(file->string())
         .key("--restart")
-        .fix("run the scene again from the start (without --restart, into another directory), "
-             "or put back an intact copy of the checkpoint");
+        .fix(
+            "run the scene again from the start (without --restart, into another directory), "
+            "or put back an intact copy of the checkpoint");
   }
   r.h5->require_format("pdcg-checkpoint", 1);
   r.kind = r.h5->attribute_string("/", "kind");
