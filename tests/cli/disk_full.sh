@@ -6,7 +6,8 @@
 #  1. `ulimit -f` (RLIMIT_FSIZE) with SIGXFSZ *not* ignored by this shell: pdcg ignores it
 #     itself (main()), so the write fails with EFBIG and becomes the error; for a results file,
 #     a checkpoint, model files (atoms2pd, homogenize, rescale) and a CSV (forces).
-#  2. a small tmpfs that fills up (ENOSPC) in the middle of a run; after it is enlarged,
+#  2. a small tmpfs that fills up (ENOSPC) in the middle of a quasi-static and of a dynamic
+#     run (half the space an uninterrupted run needs); after it is enlarged,
 #     `--restart` finishes the run with results bitwise equal to an uninterrupted run.
 #  3. a read-only tmpfs and a path through a regular file: exit 2 before any computation.
 #  4. a truncated and a bit-flipped checkpoint: --restart refuses them (exit 2), naming it.
@@ -191,6 +192,35 @@ print(f"ok   after freeing space, --restart: {n} datasets of {len(fa)} results f
       f"equal to the uninterrupted run ({sys.argv[3]} were written before the disk was full)")
 PY
   else bad "restart after the full disk"; fi
+  umount "$mnt"
+  # dynamic: the disk fills up while a results file or a checkpoint is written
+  cat > dyn.yaml <<'Y'
+dimension: 2
+plane: strain
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 0.25], spacing: 0.0625}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+boundary:
+  - {name: left,  region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: "0.01*sin(3*t)"}}
+initial: {velocity: {y: "0.01*sin(pi*x)"}}
+effects: [inertia, damping]
+inertia: {end_time: 3.0}
+damping: {type: viscous, coefficient: 0.1}
+output: {every: 25, checkpoint_every: 20}
+Y
+  "$pdcg" -q run dyn.yaml -o dynfull || bad "dynamic: uninterrupted run"
+  size=$(( $(du -sk dynfull | cut -f1) / 2 ))
+  mount -t tmpfs -o size=${size}k tmpfs "$mnt"
+  out=$("$pdcg" -q run dyn.yaml -o "$mnt/out" 2>&1); code=$?
+  if [ $code = 1 ] && says "$out" "No space left on device" "df -h"; then
+    ok "dynamic, tmpfs of ${size} KiB full: exit 1: $(grep -o 'cannot write [^:]*' <<<"$out")"
+  else bad "dynamic, full tmpfs: exit $code: $out"; fi
+  intact "$mnt/out" || fail=1
+  mount -o remount,size=64m "$mnt"
+  if "$pdcg" -q run dyn.yaml --restart "$mnt/out" && cmp dynfull/series.csv "$mnt/out/series.csv" \
+    && cmp dynfull/results.xdmf "$mnt/out/results.xdmf"; then
+    ok "dynamic: after freeing space, --restart gives series.csv and results.xdmf byte-identical"
+  else bad "dynamic: restart after the full disk"; fi
   umount "$mnt"
 else
   echo "skip tmpfs (mount -t tmpfs not permitted)"
