@@ -42,6 +42,9 @@ def main():
             if len(results) - results_at_k >= r or len(ckpts) > k:
                 p.send_signal(signal.SIGKILL)
                 p.wait()
+                if p.returncode != -signal.SIGKILL:
+                    print(f"the command ended (status {p.returncode}) before the kill: K={k}, R={r}")
+                    return 3
                 later = " and the next checkpoint" if len(ckpts) > k else ""
                 print(f"killed (SIGKILL) once checkpoint #{k} then {len(results) - results_at_k} more results "
                       f"files{later} had appeared; newest checkpoint {max(ckpts)}")
@@ -51,6 +54,9 @@ def main():
             live = [n for n in os.listdir(d) if n.startswith(".checkpoint_") and ".tmp." in n]
             p.send_signal(signal.SIGKILL)
             p.wait()
+            if p.returncode != -signal.SIGKILL:
+                print(f"the command ended (status {p.returncode}) before the kill")
+                return 3
             if not live:
                 print(f"missed: checkpoint temporary #{k} was already renamed when stopped")
                 return 4

@@ -63,10 +63,15 @@ restart_and_compare() {  # <name> <scene> <csv>
 run_case() {  # run_case <name> <scene> <csv> <checkpoints of a full run>
   local name=$1 scene=$2 csv=$3 nck=$4
   full "$name" "$scene" || return
-  local k=$(( 1 + RANDOM % (nck - 1) )) r=$(( RANDOM % 3 ))
-  local msg
-  msg=$(/usr/bin/python3 "$here/kill_at.py" "$name.cut" files $k $r -- "$pdcg" -q run "$scene" -o "$name.cut")
-  local code=$?
+  local k r msg code attempt
+  for attempt in 1 2 3; do  # a run that ends before the kill (last checkpoint) is retried
+    k=$(( 1 + RANDOM % (nck - 1) )) r=$(( RANDOM % 3 ))
+    rm -rf "$name.cut"
+    msg=$(/usr/bin/python3 "$here/kill_at.py" "$name.cut" files $k $r -- "$pdcg" -q run "$scene" -o "$name.cut")
+    code=$?
+    [ $code = 3 ] || break
+    echo "     $name attempt $attempt: $msg"
+  done
   [ $code = 0 ] || { echo "FAIL $name: K=$k R=$r: $msg"; fail=1; return; }
   echo "ok   $name: K=$k R=$r $msg"
   restart_and_compare "$name" "$scene" "$csv"
