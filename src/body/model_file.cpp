@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -13,6 +14,7 @@
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
+#include "pdcg/io/atomic_output.hpp"
 #include "pdcg/io/hdf5.hpp"
 
 namespace pdcg::body {
@@ -89,8 +91,13 @@ std::shared_ptr<const atomistic::Potential> potential_from_commands(
       const auto target =
           dir / fmt::format("{}_{}", k, std::filesystem::path(files[k].name).filename().string());
       {
+        // a full /tmp or `ulimit -f` must not leave a cut file that then reads as a damaged
+        // potential: the write error, naming the file
         std::ofstream out(target, std::ios::binary);
         out << files[k].contents;
+        out.flush();
+        if (!out)
+          io::throw_write_error(target, errno ? errno : EIO, "writing the embedded potential file");
       }
       for (auto& l : lines) {
         // replace the file word of pair_coeff lines (whole words only)

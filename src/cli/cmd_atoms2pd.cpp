@@ -16,6 +16,7 @@
 #include "pdcg/body/model_file.hpp"
 #include "pdcg/body/statistics.hpp"
 #include "pdcg/core/log.hpp"
+#include "pdcg/io/atomic_output.hpp"
 
 namespace {
 
@@ -31,6 +32,7 @@ struct Options {
 int run(const Options& o) {
   using namespace pdcg;
   namespace bu = cli::body_util;
+  io::require_writable_output(o.output, "--output");  // before any computation
   if (o.density != "delta" && o.density != "statistical")
     throw InputError("unknown density")
         .source("--density")

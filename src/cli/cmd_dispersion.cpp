@@ -418,6 +418,10 @@ pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
       throw pdcg::InputError("give either a body file (model) or --trajectory (measured), not both")
           .key("pdcg dispersion")
           .expected("pdcg dispersion BODY.h5 … or pdcg dispersion --trajectory DUMP …");
+    // before any computation
+    pdcg::io::require_writable_output(o->output, "--output");
+    if (!o->spectrum.empty()) pdcg::io::require_writable_output(o->spectrum, "--spectrum");
+    if (!o->plot.empty()) pdcg::io::require_writable_output(o->plot, "--plot");
     return o->body.empty() ? run_trajectory(*o) : run_model(*o);
   };
 });

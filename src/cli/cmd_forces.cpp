@@ -18,6 +18,7 @@ struct Options {
 };
 
 int run(const Options& o) {
+  pdcg::io::require_writable_output(o.output, "--output");  // before any computation
   using namespace pdcg;
   namespace bu = cli::body_util;
   const body::Body b = body::read_body(o.body);

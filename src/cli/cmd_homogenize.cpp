@@ -11,6 +11,7 @@
 #include "pdcg/coarsen/homogenise.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
+#include "pdcg/io/atomic_output.hpp"
 
 namespace {
 
@@ -63,6 +64,7 @@ std::vector<double> read_points(const std::string& path) {
 }
 
 int run(const Options& o) {
+  pdcg::io::require_writable_output(o.output, "--output");  // before any computation
   using namespace pdcg;
   if ((o.spacing > 0.0) == !o.points.empty())
     throw InputError("give exactly one of --spacing and --points")

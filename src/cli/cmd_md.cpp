@@ -40,6 +40,9 @@ int run(const Options& o) {
   if (o.dump.empty() && o.every != 0) throw InputError("--every needs --dump FILE").key("--every");
   if (o.thermo_every < 1)
     throw InputError("bad thermo interval").key("--thermo-every").value(std::to_string(o.thermo_every)).expected(">= 1");
+  // before any computation
+  if (!o.dump.empty()) io::require_writable_output(o.dump, "--dump");
+  if (!o.thermo.empty()) io::require_writable_output(o.thermo, "--thermo");
   if (o.temperature && (!(*o.temperature >= 0.0) || !std::isfinite(*o.temperature)))
     throw InputError("bad temperature").key("--temperature").value(fmt::format("{}", *o.temperature)).expected("T >= 0");
 

@@ -6,6 +6,7 @@
 #include "pdcg/coarsen/rescale.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
+#include "pdcg/io/atomic_output.hpp"
 
 namespace {
 
@@ -15,6 +16,7 @@ struct Options {
 };
 
 int run(const Options& o) {
+  pdcg::io::require_writable_output(o.output, "--output");  // before any computation
   using namespace pdcg;
   if (o.factor.has_value() == o.horizon.has_value())
     throw InputError("give exactly one of --factor and --horizon")

@@ -3,6 +3,7 @@
 /// Exit codes: 0 success, 1 runtime or numerical failure, 2 bad input or
 /// usage. Messages go to stderr; results to files or stdout.
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -22,6 +23,10 @@ std::vector<Entry>& registry() {
 int main(int argc, char** argv) {
   using namespace pdcg;
   set_command_line(argc, argv);
+  // A file beyond the file size limit (`ulimit -f`, RLIMIT_FSIZE) raises SIGXFSZ, whose default
+  // action kills the process without a word. Ignored, the write fails with EFBIG instead and
+  // the writer reports it like a full disk: the file, the OS error, the fix (docs/formats.md).
+  std::signal(SIGXFSZ, SIG_IGN);
 
   CLI::App app{
       "pdcg — coarse-grain atoms into peridynamics.\n"

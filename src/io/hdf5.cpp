@@ -1,8 +1,13 @@
 #include "pdcg/io/hdf5.hpp"
 
-#include <hdf5.h>
-
 #include <fmt/format.h>
+#include <hdf5.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
@@ -35,22 +40,98 @@ class Handle {
   }
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  hid_t release() {
+    const hid_t id = id_;
+    id_ = -1;
+    return id;
+  }
 
  private:
   hid_t id_ = -1;
   herr_t (*close_)(hid_t) = nullptr;
 };
 
-/// Silences HDF5's own error stack printing; we report errors ourselves.
+/// Silences HDF5's own error stack printing; we report errors ourselves. No atexit clean-up:
+/// a file whose close failed (full disk) stays open inside HDF5, and HDF5 1.10's clean-up at
+/// exit flushes it again and crashes (SIGSEGV in H5F__close_cb). Every file pdcg opens is
+/// closed by its owner; the one that could not be is abandoned (its temporary is unlinked).
 struct QuietHdf5 {
-  QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+  QuietHdf5() {
+    H5dont_atexit();  // before any other HDF5 call
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const QuietHdf5 g_quiet;
 
-[[noreturn]] void fail(std::string_view what, const std::filesystem::path& file,
-                       std::string_view path) {
-  throw Error(fmt::format("HDF5: {} '{}' in {}", what, path, file.string()));
+/// The messages of HDF5's error stack (innermost last), and the errno it recorded (0: none).
+struct Hdf5Failure {
+  std::string text;
+  int os_error = 0;
+};
+Hdf5Failure hdf5_failure() {
+  Hdf5Failure f;
+  const int saved = errno;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_DOWNWARD,
+      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+        auto& out = *static_cast<Hdf5Failure*>(data);
+        if (!e->desc) return 0;
+        const std::string d = e->desc;
+        if (!out.text.empty()) out.text += "; ";
+        out.text += d;
+        const auto k = d.find("errno = ");
+        if (k != std::string::npos && out.os_error == 0)
+          out.os_error = std::atoi(d.c_str() + k + 8);
+        return 0;
+      },
+      &f);
+  if (f.os_error == 0 &&
+      (saved == ENOSPC || saved == EFBIG || saved == EDQUOT || saved == EIO || saved == EROFS))
+    f.os_error = saved;
+  return f;
 }
+
+/// Writer side: an OS error (full disk, file size limit, ...) becomes the clear write error.
+[[noreturn]] void fail_write(std::string_view what, const AtomicPath& file, std::string_view path) {
+  const auto f = hdf5_failure();
+  if (f.os_error != 0)
+    throw_write_error(file.final_path(), f.os_error,
+                      fmt::format("{} '{}' (temporary {})", what, path, file.temporary().string()));
+  throw Error(fmt::format("HDF5 failed {} '{}' of {} (temporary {}){}", what, path,
+                          file.final_path().string(), file.temporary().string(),
+                          f.text.empty() ? std::string() : " (" + f.text + ")"));
+}
+
+/// Reader side: a file that HDF5 cannot read is damaged (truncated, overwritten): InputError.
+[[noreturn]] void fail_read(std::string_view what, const std::filesystem::path& file,
+                            std::string_view path) {
+  const auto f = hdf5_failure();
+  throw InputError(fmt::format("{} '{}': the file is truncated or corrupt", what, path))
+      .source(file.string())
+      .expected(f.text.empty() ? std::string("a complete HDF5 file")
+                               : "a complete HDF5 file (HDF5: " + f.text + ")")
+      .fix("write the file again (an incomplete copy, a full disk or a disk error damaged it)");
+}
+
+/// CRC-32 (zlib) of bytes, continuing from crc.
+std::uint32_t crc_of(const void* data, std::size_t n, std::uint32_t crc = 0) {
+  const auto* p = static_cast<const Bytef*>(data);
+  uLong c = crc;
+  while (n > 0) {
+    const uInt k = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
+    c = crc32(c, p, k);
+    p += k;
+    n -= k;
+  }
+  return static_cast<std::uint32_t>(c);
+}
+std::uint32_t crc_of_strings(const std::vector<std::string>& v) {
+  std::uint32_t c = 0;
+  for (const auto& s : v) c = crc_of(s.data(), s.size() + 1, c);  // with the terminating NUL
+  return c;
+}
+
+constexpr const char* kCrc = "crc32";
 
 Handle string_type() {
   Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
@@ -81,17 +162,28 @@ struct H5Writer::Impl {
     std::size_t n = 1;
     for (auto d : dims) n *= d;
     if (n != size)
-      throw Error(fmt::format("HDF5 write '{}': {} values do not fill dims of {} values", dpath,
-                              size, n));
+      throw Error(
+          fmt::format("HDF5 write '{}': {} values do not fill dims of {} values", dpath, size, n));
     std::vector<hsize_t> hd(dims.begin(), dims.end());
     Handle space(H5Screate_simple(static_cast<int>(hd.size()), hd.data(), nullptr), H5Sclose);
     const std::string p(dpath);
     Handle set(H5Dcreate2(file.get(), p.c_str(), memtype, space.get(), link_props.get(),
                           H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose);
-    if (!set.valid()) fail("cannot create dataset", path.temporary(), dpath);
+    if (!set.valid()) fail_write("creating dataset", path, dpath);
     if (n > 0 && H5Dwrite(set.get(), memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-      fail("cannot write dataset", path.temporary(), dpath);
+      fail_write("writing dataset", path, dpath);
+    put_crc(set.get(), dpath, crc_of(data, n * H5Tget_size(memtype)));
+  }
+
+  /// crc32 attribute of a dataset: CRC-32 of its values in memory (native byte order) or of
+  /// its strings with their NULs; H5Reader verifies it on every read.
+  void put_crc(hid_t set, std::string_view dpath, std::uint32_t crc) {
+    const std::int64_t v = crc;
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+    Handle a(H5Acreate2(set, kCrc, H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    if (!a.valid() || H5Awrite(a.get(), H5T_NATIVE_INT64, &v) < 0)
+      fail_write("writing the checksum of", path, dpath);
   }
 
   Handle object_for_attribute(std::string_view object) {
@@ -101,7 +193,7 @@ struct H5Writer::Impl {
       const std::string p(object);
       Handle g(H5Gcreate2(file.get(), p.c_str(), link_props.get(), H5P_DEFAULT, H5P_DEFAULT),
                H5Gclose);
-      if (!g.valid()) fail("cannot open or create object", path.temporary(), object);
+      if (!g.valid()) fail_write("creating group", path, object);
       return g;
     }
     return o;
@@ -113,23 +205,27 @@ struct H5Writer::Impl {
     const std::string n(name);
     if (H5Aexists(o.get(), n.c_str()) > 0) H5Adelete(o.get(), n.c_str());
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-    Handle a(H5Acreate2(o.get(), n.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-             H5Aclose);
+    Handle a(H5Acreate2(o.get(), n.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!a.valid() || H5Awrite(a.get(), type, value) < 0)
-      fail("cannot write attribute", path.temporary(), std::string(object) + "@" + n);
+      fail_write("writing attribute", path, std::string(object) + "@" + n);
   }
 };
 
 H5Writer::H5Writer(std::filesystem::path final_path, FileInfo info)
     : impl_(std::make_unique<Impl>(std::move(final_path))) {
-  impl_->file = Handle(H5Fcreate(impl_->path.temporary().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT,
-                                 H5P_DEFAULT),
-                       H5Fclose);
-  if (!impl_->file.valid())
+  impl_->file =
+      Handle(H5Fcreate(impl_->path.temporary().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+             H5Fclose);
+  if (!impl_->file.valid()) {
+    const auto f = hdf5_failure();
     throw InputError("cannot create HDF5 file")
         .value(impl_->path.final_path().string())
         .expected("a writable location")
-        .fix("check that the directory exists and is writable");
+        .fix(f.os_error != 0 ? std::string(std::strerror(f.os_error)) +
+                                   ": write the output to a writable directory with free "
+                                   "space (-o/--output)"
+                             : "check that the directory exists and is writable");
+  }
   impl_->link_props = Handle(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(impl_->link_props.get(), 1);
   if (info.pdcg_version.empty()) info.pdcg_version = pdcg::version();
@@ -156,11 +252,12 @@ void H5Writer::write(std::string_view path, std::string_view text) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   const std::string p(path), s(text);
   const char* cs = s.c_str();
-  Handle set(H5Dcreate2(impl_->file.get(), p.c_str(), t.get(), space.get(),
-                        impl_->link_props.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Handle set(H5Dcreate2(impl_->file.get(), p.c_str(), t.get(), space.get(), impl_->link_props.get(),
+                        H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
   if (!set.valid() || H5Dwrite(set.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &cs) < 0)
-    fail("cannot write string", impl_->path.temporary(), path);
+    fail_write("writing string", impl_->path, path);
+  impl_->put_crc(set.get(), path, crc_of(s.data(), s.size()));
 }
 void H5Writer::write_strings(std::string_view path, const std::vector<std::string>& lines) {
   Handle t = string_type();
@@ -170,12 +267,13 @@ void H5Writer::write_strings(std::string_view path, const std::vector<std::strin
   ptrs.reserve(lines.size());
   for (const auto& l : lines) ptrs.push_back(l.c_str());
   const std::string p(path);
-  Handle set(H5Dcreate2(impl_->file.get(), p.c_str(), t.get(), space.get(),
-                        impl_->link_props.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Handle set(H5Dcreate2(impl_->file.get(), p.c_str(), t.get(), space.get(), impl_->link_props.get(),
+                        H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
   if (!set.valid() ||
       (n > 0 && H5Dwrite(set.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0))
-    fail("cannot write strings", impl_->path.temporary(), path);
+    fail_write("writing strings", impl_->path, path);
+  impl_->put_crc(set.get(), path, crc_of_strings(lines));
 }
 
 void H5Writer::attribute(std::string_view object, std::string_view name, double value) {
@@ -192,9 +290,8 @@ void H5Writer::attribute(std::string_view object, std::string_view name, std::st
 }
 
 void H5Writer::commit() {
-  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0)
-    fail("cannot flush", impl_->path.temporary(), "/");
-  impl_->file.reset();
+  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0) fail_write("flushing", impl_->path, "/");
+  if (H5Fclose(impl_->file.release()) < 0) fail_write("closing", impl_->path, "/");
   impl_->path.commit();
 }
 
@@ -214,7 +311,7 @@ struct H5Reader::Impl {
           .expected("a pdcg file that holds it")
           .fix("check the file kind with `pdcg info`");
     Handle d(H5Dopen2(file.get(), s.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!d.valid()) fail("cannot open dataset", path, p);
+    if (!d.valid()) fail_read("cannot open dataset", path, p);
     return d;
   }
   Handle attr(std::string_view object, std::string_view name) const {
@@ -227,6 +324,57 @@ struct H5Reader::Impl {
           .expected("a pdcg file that holds it")
           .fix("check the file kind with `pdcg info`");
     return Handle(H5Aopen(o.get(), n.c_str(), H5P_DEFAULT), H5Aclose);
+  }
+
+  /// Compares the dataset's crc32 attribute (if it has one) with crc.
+  void verify_crc(hid_t d, std::string_view p, std::uint32_t crc) const {
+    if (H5Aexists(d, kCrc) <= 0) return;  // written before checksums, or by another program
+    Handle a(H5Aopen(d, kCrc, H5P_DEFAULT), H5Aclose);
+    std::int64_t stored = -1;
+    if (!a.valid() || H5Aread(a.get(), H5T_NATIVE_INT64, &stored) < 0)
+      fail_read("cannot read the checksum of", path, p);
+    if (static_cast<std::uint32_t>(stored) != crc || stored < 0 || stored > 0xffffffffLL)
+      throw InputError(fmt::format("dataset '{}' fails its checksum: the file is corrupt", p))
+          .source(path.string())
+          .value(fmt::format("CRC-32 {:08x}", crc))
+          .expected(fmt::format("{:08x} (stored when the file was written)",
+                                static_cast<std::uint32_t>(stored)))
+          .fix("write the file again (a disk error, an incomplete copy or an edit damaged it)");
+  }
+  /// Verifies values read as memtype: directly when memtype is the stored (native) type,
+  /// else by reading the stored values once more in their own type.
+  void verify(hid_t d, std::string_view p, const void* data, std::size_t bytes,
+              hid_t memtype) const {
+    if (H5Aexists(d, kCrc) <= 0) return;
+    Handle ft(H5Dget_type(d), H5Tclose);
+    Handle nt(H5Tget_native_type(ft.get(), H5T_DIR_ASCEND), H5Tclose);
+    if (H5Tequal(nt.get(), memtype) > 0) return verify_crc(d, p, crc_of(data, bytes));
+    verify_raw(d, p);
+  }
+  /// Reads a dataset in its stored type and verifies its checksum.
+  void verify_raw(hid_t d, std::string_view p) const {
+    if (H5Aexists(d, kCrc) <= 0) return;
+    Handle ft(H5Dget_type(d), H5Tclose);
+    Handle space(H5Dget_space(d), H5Sclose);
+    const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+    if (H5Tget_class(ft.get()) == H5T_STRING) {
+      Handle t = string_type();
+      std::vector<char*> ptrs(std::max<std::size_t>(n, 1), nullptr);
+      if (n > 0 && H5Dread(d, t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0)
+        fail_read("cannot read strings", path, p);
+      std::vector<std::string> v;
+      for (std::size_t i = 0; i < n; ++i) {
+        v.emplace_back(ptrs[i] ? ptrs[i] : "");
+        H5free_memory(ptrs[i]);
+      }
+      const bool scalar = H5Sget_simple_extent_type(space.get()) == H5S_SCALAR;
+      return verify_crc(d, p, scalar ? crc_of(v[0].data(), v[0].size()) : crc_of_strings(v));
+    }
+    Handle nt(H5Tget_native_type(ft.get(), H5T_DIR_ASCEND), H5Tclose);
+    std::vector<unsigned char> buf(n * H5Tget_size(nt.get()));
+    if (n > 0 && H5Dread(d, nt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0)
+      fail_read("cannot read dataset", path, p);
+    verify_crc(d, p, crc_of(buf.data(), buf.size()));
   }
 };
 
@@ -241,9 +389,18 @@ H5Reader::H5Reader(std::filesystem::path path) : impl_(std::make_unique<Impl>())
     throw InputError("not an HDF5 file")
         .value(impl_->path.string())
         .expected("a pdcg HDF5 file (.h5)")
-        .fix("pass a file written by pdcg");
+        .fix(
+            "pass a file written by pdcg (a file cut short before its first bytes, e.g. by a "
+            "full disk, also ends here: write it again)");
   impl_->file = Handle(H5Fopen(impl_->path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!impl_->file.valid()) fail("cannot open file", impl_->path, "/");
+  if (!impl_->file.valid()) {
+    const auto f = hdf5_failure();
+    throw InputError("HDF5 file that cannot be opened: truncated or corrupt")
+        .value(impl_->path.string())
+        .expected(f.text.empty() ? std::string("a complete HDF5 file")
+                                 : "a complete HDF5 file (HDF5: " + f.text + ")")
+        .fix("write the file again (an incomplete copy, a full disk or a disk error damaged it)");
+  }
   if (!has_attribute("/", "format"))
     throw InputError("HDF5 file without a pdcg 'format' attribute")
         .value(impl_->path.string())
@@ -314,7 +471,8 @@ std::vector<double> H5Reader::read_double(std::string_view p) const {
   std::vector<double> out(count(dims(p)));
   if (!out.empty() &&
       H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
-    fail("cannot read dataset as double", impl_->path, p);
+    fail_read("cannot read dataset", impl_->path, p);
+  impl_->verify(d.get(), p, out.data(), out.size() * sizeof(double), H5T_NATIVE_DOUBLE);
   return out;
 }
 
@@ -323,7 +481,8 @@ std::vector<std::int64_t> H5Reader::read_int(std::string_view p) const {
   std::vector<std::int64_t> out(count(dims(p)));
   if (!out.empty() &&
       H5Dread(d.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
-    fail("cannot read dataset as integer", impl_->path, p);
+    fail_read("cannot read dataset", impl_->path, p);
+  impl_->verify(d.get(), p, out.data(), out.size() * sizeof(std::int64_t), H5T_NATIVE_INT64);
   return out;
 }
 
@@ -332,9 +491,10 @@ std::string H5Reader::read_string(std::string_view p) const {
   Handle t = string_type();
   char* s = nullptr;
   if (H5Dread(d.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &s) < 0)
-    fail("cannot read string", impl_->path, p);
+    fail_read("cannot read string", impl_->path, p);
   std::string out = s ? s : "";
   H5free_memory(s);
+  impl_->verify_crc(d.get(), p, crc_of(out.data(), out.size()));
   return out;
 }
 
@@ -343,20 +503,38 @@ std::vector<std::string> H5Reader::read_strings(std::string_view p) const {
   Handle t = string_type();
   std::vector<char*> ptrs(count(dims(p)), nullptr);
   if (!ptrs.empty() && H5Dread(d.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0)
-    fail("cannot read strings", impl_->path, p);
+    fail_read("cannot read strings", impl_->path, p);
   std::vector<std::string> out;
   out.reserve(ptrs.size());
   for (char* s : ptrs) {
     out.emplace_back(s ? s : "");
     H5free_memory(s);
   }
+  impl_->verify_crc(d.get(), p, crc_of_strings(out));
   return out;
+}
+
+void H5Reader::verify() const {
+  std::vector<std::string> sets;
+  if (H5Ovisit2(
+          impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC,
+          [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+            if (info->type == H5O_TYPE_DATASET)
+              static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+            return 0;
+          },
+          &sets, H5O_INFO_BASIC) < 0)
+    fail_read("cannot list the objects of", impl_->path, "/");
+  for (const auto& p : sets) {
+    Handle d = impl_->dataset(p);
+    impl_->verify_raw(d.get(), p);
+  }
 }
 
 std::vector<std::string> H5Reader::list(std::string_view group) const {
   const std::string g(group.empty() ? "/" : group);
   Handle gid(H5Gopen2(impl_->file.get(), g.c_str(), H5P_DEFAULT), H5Gclose);
-  if (!gid.valid()) fail("cannot open group", impl_->path, g);
+  if (!gid.valid()) fail_read("cannot open group", impl_->path, g);
   std::vector<std::string> names;
   H5Literate(
       gid.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
@@ -377,20 +555,22 @@ bool H5Reader::has_attribute(std::string_view object, std::string_view name) con
 double H5Reader::attribute_double(std::string_view object, std::string_view name) const {
   Handle a = impl_->attr(object, name);
   double v = 0;
-  if (H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v) < 0) fail("cannot read attribute", impl_->path, name);
+  if (H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v) < 0)
+    fail_read("cannot read attribute", impl_->path, name);
   return v;
 }
 std::int64_t H5Reader::attribute_int(std::string_view object, std::string_view name) const {
   Handle a = impl_->attr(object, name);
   std::int64_t v = 0;
-  if (H5Aread(a.get(), H5T_NATIVE_INT64, &v) < 0) fail("cannot read attribute", impl_->path, name);
+  if (H5Aread(a.get(), H5T_NATIVE_INT64, &v) < 0)
+    fail_read("cannot read attribute", impl_->path, name);
   return v;
 }
 std::string H5Reader::attribute_string(std::string_view object, std::string_view name) const {
   Handle a = impl_->attr(object, name);
   Handle t = string_type();
   char* s = nullptr;
-  if (H5Aread(a.get(), t.get(), &s) < 0) fail("cannot read attribute", impl_->path, name);
+  if (H5Aread(a.get(), t.get(), &s) < 0) fail_read("cannot read attribute", impl_->path, name);
   std::string out = s ? s : "";
   H5free_memory(s);
   return out;

@@ -1058,7 +1058,19 @@ Restart load_checkpoint(const Scene& s, const std::filesystem::path& dir) {
         .fix("check the directory, or run without --restart");
   Restart r;
   r.file = *file;
-  r.h5 = std::make_unique<io::H5Reader>(*file);
+  try {
+    // every dataset against its checksum before any is used: a damaged checkpoint (a copy cut
+    // short, a disk error) is refused, never restarted from
+    r.h5 = std::make_unique<io::H5Reader>(*file);
+    r.h5->verify();
+  } catch (const InputError& e) {
+    throw InputError(std::string("the checkpoint is truncated or corrupt: ") + e.what())
+        .source(file->string())
+        .key("--restart")
+        .fix(
+            "run the scene again from the start (without --restart, into another directory), "
+            "or put back an intact copy of the checkpoint");
+  }
   r.h5->require_format("pdcg-checkpoint", 1);
   r.kind = r.h5->attribute_string("/", "kind");
   r.step = static_cast<long>(r.h5->attribute_int("/", "step"));
@@ -1105,19 +1117,6 @@ void finish_checkpoint(io::H5Writer& h5, const std::filesystem::path& dir, long 
     if (name.rfind("checkpoint_", 0) == 0 && name.size() == 22 && name.substr(19) == ".h5" &&
         e.path() != checkpoint_path(dir, step))
       std::filesystem::remove(e.path());
-  }
-}
-
-/// Test hook (docs/effects.md): PDCG_TEST_FAIL_AFTER_STEP=N ends the process abruptly
-/// (std::_Exit, no clean-up, as a kill would) after the outputs of step N are written.
-void maybe_fail_after(long step) {
-  static const long n = [] {
-    const char* e = std::getenv("PDCG_TEST_FAIL_AFTER_STEP");
-    return e ? std::atol(e) : -1L;
-  }();
-  if (n >= 0 && step == n) {
-    std::fprintf(stderr, "pdcg: PDCG_TEST_FAIL_AFTER_STEP=%ld: simulated crash\n", n);
-    std::_Exit(75);
   }
 }
 
@@ -1347,7 +1346,6 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                                   E0 != 0 ? (E - E0) / std::abs(E0) : 0.0,
                                   rupture ? fmt::format(", {} bonds broken", body.broken_bonds())
                                           : std::string()));
-    maybe_fail_after(n);
   }
   progress.finish(rupture
                       ? fmt::format("t = {:.4g}, {} bonds broken", ex->time(), body.broken_bonds())
@@ -1407,10 +1405,36 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       ro.restart ? *ro.restart : (ro.output ? *ro.output : s.output_directory);
   std::optional<Restart> restart;
   if (ro.restart) restart = load_checkpoint(s, dir);
-  // Everything is checked before the output directory and scene.resolved.yaml exist: a refused
-  // scene leaves nothing behind (docs/solver.md §6).
+  // Before any computation the output directory is checked: it exists or can be created, and
+  // takes a file (docs/formats.md). Directories this check creates are removed again if the
+  // scene's set-up is refused below, so that a refused scene leaves nothing behind
+  // (docs/solver.md §6); scene.resolved.yaml is written once everything is checked.
+  const char* dir_option = ro.restart ? "--restart" : ro.output ? "--output" : "output.directory";
+  std::vector<std::filesystem::path> created;  // directories the check creates, outermost last
+  {
+    std::error_code ec;
+    for (auto p = std::filesystem::absolute(dir, ec); !ec && !p.empty() &&
+                                                      !std::filesystem::exists(p, ec) &&
+                                                      p != p.parent_path();
+         p = p.parent_path())
+      created.push_back(p);
+  }
+  io::require_writable_directory(dir, dir_option);
+  if (const int n = io::remove_stale_temporaries(dir))
+    log::info("removed {} temporary file{} left in {} by a killed run", n, n == 1 ? "" : "s",
+              dir.string());
+  bool outputs_begun = false;
+  struct RemoveCreatedOnRefusal {
+    const std::vector<std::filesystem::path>& dirs;
+    const bool& begun;
+    ~RemoveCreatedOnRefusal() {
+      if (begun) return;
+      std::error_code ec;
+      for (const auto& p : dirs) std::filesystem::remove(p, ec);  // only removes empty ones
+    }
+  } remove_created{created, outputs_begun};
   auto begin_outputs = [&] {
-    std::filesystem::create_directories(dir);
+    outputs_begun = true;
     io::AtomicTextFile f(dir / "scene.resolved.yaml");
     f.stream() << resolved_yaml(s);
     f.commit();
@@ -1555,7 +1579,6 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       finish_checkpoint(*h5, dir, k);
     }
     progress.update(static_cast<std::uint64_t>(k), progress_text());
-    maybe_fail_after(k);
   }
   progress.finish(progress_text());
   log::info("done: {} steps, results in {}", counter, dir.string());

@@ -1,17 +1,26 @@
 #!/usr/bin/env bash
-# Checkpoint/restart: a run killed after a checkpoint (PDCG_TEST_FAIL_AFTER_STEP:
-# std::_Exit after the outputs of that step, no clean-up, like a kill) and continued with
+# Checkpoint/restart: a run killed with a real SIGKILL from outside (tests/cli/kill_at.py polls
+# the output directory and kills when the K-th checkpoint and then R more results files have
+# appeared; K, R random per run from a printed seed) and continued with
 # `pdcg run scene.yaml --restart DIR` gives bitwise the same outputs as an uninterrupted run
 # on one thread: series/reactions CSV and XDMF byte for byte, every dataset of every
 # results_NNNN.h5 exactly equal (the files' command_line attributes differ by design).
-# Dynamic (inertia + viscous damping, prescribed motion, initial velocity) and quasi-static
-# with rupture (broken bonds, rebuilt stencils, anchors in the checkpoint).
+# Cases: quasi-static Newton (load steps, no rupture), quasi-static with rupture (broken bonds,
+# rebuilt stencils, anchors in the checkpoint), dynamic (inertia + viscous damping, prescribed
+# motion, initial velocity), ADR, dynamic fracture; and one run killed while a checkpoint is
+# being written (SIGSTOP when its temporary exists, then SIGKILL): the previous checkpoint is
+# used and the restart removes the dead run's temporaries.
+# Replay a failure: PDCG_KILL_SEED=<printed seed> bash restart.sh PDCG WORK
 # Usage: restart.sh /path/to/pdcg /path/to/work
 set -u
 pdcg=$1
 work=$2
+here=$(cd "$(dirname "$0")" && pwd)
 export OMP_NUM_THREADS=1
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+seed=${PDCG_KILL_SEED:-$(( $(od -An -N2 -tu2 /dev/urandom) ))}
+RANDOM=$seed
+echo "seed $seed (replay: PDCG_KILL_SEED=$seed)"
 fail=0
 compare() {  # compare <A> <B> <csv-name>
   local a=$1 b=$2 csv=$3
@@ -38,18 +47,47 @@ for f in fa:
                 print("FAIL", f, "attribute", k); sys.exit(1)
 print(f"ok   {len(fa)} result files, {n} datasets bitwise equal")
 PY
+  local left
+  left=$(ls -A "$b" | grep '\.tmp\.')
+  [ -z "$left" ] || { echo "FAIL temporaries left after the restart: $left"; fail=1; }
 }
-run_case() {  # run_case <name> <scene> <csv> <fail-after>
-  local name=$1 scene=$2 csv=$3 after=$4
-  "$pdcg" -q run "$scene" -o "$name.full" || { echo "FAIL $name: uninterrupted run"; fail=1; return; }
-  PDCG_TEST_FAIL_AFTER_STEP=$after "$pdcg" -q run "$scene" -o "$name.cut" 2>/dev/null
-  local code=$?
-  [ $code = 75 ] || { echo "FAIL $name: the injected failure did not happen (exit $code)"; fail=1; return; }
+full() {  # full <name> <scene>: the uninterrupted run
+  "$pdcg" -q run "$2" -o "$1.full" || { echo "FAIL $1: uninterrupted run"; fail=1; return 1; }
+}
+restart_and_compare() {  # <name> <scene> <csv>
+  local name=$1 scene=$2 csv=$3
   ls "$name.cut"/checkpoint_*.h5 >/dev/null 2>&1 || { echo "FAIL $name: no checkpoint left"; fail=1; return; }
-  echo "ok   $name: killed after step $after, left $(basename "$name.cut"/checkpoint_*.h5)"
   "$pdcg" -q run "$scene" --restart "$name.cut" || { echo "FAIL $name: restart"; fail=1; return; }
   compare "$name.full" "$name.cut" "$csv"
 }
+run_case() {  # run_case <name> <scene> <csv> <checkpoints of a full run>
+  local name=$1 scene=$2 csv=$3 nck=$4
+  full "$name" "$scene" || return
+  local k r msg code attempt
+  for attempt in 1 2 3; do  # a run that ends before the kill (last checkpoint) is retried
+    k=$(( 1 + RANDOM % (nck - 1) )) r=$(( RANDOM % 3 ))
+    rm -rf "$name.cut"
+    msg=$(/usr/bin/python3 "$here/kill_at.py" "$name.cut" files $k $r -- "$pdcg" -q run "$scene" -o "$name.cut")
+    code=$?
+    [ $code = 3 ] || break
+    echo "     $name attempt $attempt: $msg"
+  done
+  [ $code = 0 ] || { echo "FAIL $name: K=$k R=$r: $msg"; fail=1; return; }
+  echo "ok   $name: K=$k R=$r $msg"
+  restart_and_compare "$name" "$scene" "$csv"
+}
+cat > static.yaml <<'Y'
+dimension: 2
+plane: strain
+geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 0.25], spacing: 0.0625}
+material: {model: neo-hookean, shear_modulus: 1.0, bulk_modulus: 10.0}
+boundary:
+  - {name: left,  region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: "0.3*t", y: "0.05*t"}}
+loading: {steps: 16}
+output: {checkpoint_every: 2}
+Y
+run_case static static.yaml reactions.csv 8
 cat > dyn.yaml <<'Y'
 dimension: 2
 plane: strain
@@ -62,9 +100,29 @@ initial: {velocity: {y: "0.01*sin(pi*x)"}}
 effects: [inertia, damping]
 inertia: {end_time: 3.0}
 damping: {type: viscous, coefficient: 0.1}
-output: {every: 25, checkpoint_every: 40}
+output: {every: 25, checkpoint_every: 20}
 Y
-run_case dynamic dyn.yaml series.csv 57
+run_case dynamic dyn.yaml series.csv 7
+# killed while a checkpoint is being written: stopped while the K-th checkpoint's temporary
+# exists (K >= 2: an earlier complete checkpoint exists), then SIGKILL; the restart uses the
+# previous checkpoint and removes the temporary. A miss (renamed before the stop) retries.
+hit=0
+for attempt in 1 2 3 4 5 6 7 8 9 10; do
+  k=$(( 2 + RANDOM % 5 ))
+  rm -rf mid.cut
+  msg=$(/usr/bin/python3 "$here/kill_at.py" mid.cut ckpt-tmp $k 0 -- "$pdcg" -q run dyn.yaml -o mid.cut)
+  code=$?
+  if [ $code = 3 ] || [ $code = 4 ]; then echo "     attempt $attempt K=$k: missed: $(cut -c1-90 <<<"$msg")"; continue; fi
+  if [ $code != 0 ]; then echo "FAIL mid-checkpoint K=$k: $msg"; fail=1; break; fi
+  echo "ok   mid-checkpoint K=$k: $msg"
+  tmp=$(ls -A mid.cut | grep '^\.checkpoint_.*\.tmp\.')
+  [ -n "$tmp" ] || { echo "FAIL mid-checkpoint: no temporary after the kill"; fail=1; }
+  cp -r dynamic.full mid.full
+  restart_and_compare mid dyn.yaml series.csv
+  hit=1
+  break
+done
+[ $hit = 1 ] || { echo "FAIL mid-checkpoint: never caught a checkpoint being written in 10 runs"; fail=1; }
 cat > adr.yaml <<'Y'
 dimension: 2
 plane: strain
@@ -78,7 +136,7 @@ inertia: {end_time: 3.0}
 damping: {type: adaptive-dynamic-relaxation}
 output: {every: 30, checkpoint_every: 20}
 Y
-run_case adr adr.yaml series.csv 45
+run_case adr adr.yaml series.csv 7
 cat > rup.yaml <<'Y'
 dimension: 2
 plane: stress
@@ -93,7 +151,7 @@ effects: [rupture]
 rupture: {criterion: bond_stretch, critical: 1.15}
 output: {checkpoint_every: 1}
 Y
-run_case rupture rup.yaml reactions.csv 2
+run_case rupture rup.yaml reactions.csv 3
 # dynamic fracture (inertia + rupture): bonds break before and after the checkpoint; the
 # broken pairs, the switched-off point stencils and the (shrunk) time step are restored
 cat > dynrup.yaml <<'Y'
@@ -110,10 +168,10 @@ inertia: {end_time: 4.0}
 rupture: {criterion: bond_stretch, critical: 1.15}
 output: {every: 10, checkpoint_every: 15}
 Y
-run_case dynrup dynrup.yaml series.csv 31
+run_case dynrup dynrup.yaml series.csv 7
 b_cut=$(awk -F, 'NR > 1 && $1 == 30 {print $NF}' dynrup.full/series.csv)
 b_end=$(tail -1 dynrup.full/series.csv | awk -F, '{print $NF}')
-if [ "${b_cut:-0}" -gt 0 ] && [ "$b_end" -gt "$b_cut" ]; then echo "ok   dynrup: $b_cut bonds broken at the checkpoint, $b_end at the end"; else echo "FAIL dynrup: bonds broken $b_cut at the checkpoint, $b_end at the end (want 0 < cut < end)"; fail=1; fi
+if [ "${b_cut:-0}" -gt 0 ] && [ "$b_end" -gt "$b_cut" ]; then echo "ok   dynrup: $b_cut bonds broken at step 30, $b_end at the end"; else echo "FAIL dynrup: bonds broken $b_cut at step 30, $b_end at the end (want 0 < step 30 < end)"; fail=1; fi
 out=$("$pdcg" run dynrup.yaml -o progress.dynrup 2>&1)
 if grep -Eq "steps [0-9]+/[0-9]+ .*t = 4, $b_end bonds broken" <<<"$out"; then echo "ok   progress (dynamic fracture)"; else echo "FAIL progress (dynamic fracture): $out" | tail -3; fail=1; fi
 # a restart needs a checkpoint of the same scene

@@ -7,8 +7,12 @@
 ///   pdcg_version    the writing program's version
 ///   units           LAMMPS unit style of every quantity in the file
 ///   command_line    the command that produced the file
+/// Every dataset carries an attribute `crc32` (CRC-32 of its values in native byte order, or
+/// of its strings with their NULs); H5Reader verifies it on every read and verify() checks
+/// all datasets: a damaged file is an InputError naming file and dataset, never silent data.
 /// Writes go to a temporary file beside the final one; commit() renames it
-/// into place (see atomic_output.hpp). HDF5 headers stay out of this header.
+/// into place (see atomic_output.hpp); a full disk is pdcg::Error naming the final file, the
+/// OS error and the fix. HDF5 headers stay out of this header.
 #pragma once
 
 #include <cstdint>
@@ -25,11 +29,11 @@ namespace pdcg::io {
 
 /// Identification written into the root of every file.
 struct FileInfo {
-  std::string format;            ///< e.g. "pdcg-body"
-  int schema_version = 1;        ///< of that format
+  std::string format;      ///< e.g. "pdcg-body"
+  int schema_version = 1;  ///< of that format
   UnitStyle units = UnitStyle::none;
-  std::string pdcg_version;      ///< filled by the writer if empty
-  std::string command_line;      ///< filled from pdcg::command_line() if empty
+  std::string pdcg_version;  ///< filled by the writer if empty
+  std::string command_line;  ///< filled from pdcg::command_line() if empty
 };
 
 /// Writes one HDF5 file atomically. Paths like "families/offsets" create
@@ -41,7 +45,8 @@ class H5Writer {
   H5Writer(const H5Writer&) = delete;
   H5Writer& operator=(const H5Writer&) = delete;
 
-  void write(std::string_view path, std::span<const double> data, std::vector<std::size_t> dims = {});
+  void write(std::string_view path, std::span<const double> data,
+             std::vector<std::size_t> dims = {});
   void write(std::string_view path, std::span<const std::int64_t> data,
              std::vector<std::size_t> dims = {});
   void write(std::string_view path, std::string_view text);  ///< scalar string dataset
@@ -79,6 +84,9 @@ class H5Reader {
   std::vector<std::int64_t> read_int(std::string_view path) const;
   std::string read_string(std::string_view path) const;
   std::vector<std::string> read_strings(std::string_view path) const;
+  /// Reads every dataset and checks its crc32 attribute (where present): InputError
+  /// naming the dataset on a mismatch or an unreadable (truncated) file.
+  void verify() const;
   /// Names of the members of a group.
   std::vector<std::string> list(std::string_view group = "/") const;
 
