@@ -1,6 +1,9 @@
 #include "pdcg/atomistic/lammps_engine.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <Eigen/Dense>
@@ -11,11 +14,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <set>
+#include <sstream>
 
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/config.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 
 #if PDCG_WITH_LAMMPS
 #include <library.h>
@@ -24,6 +31,8 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+
+extern char** environ;
 
 namespace pdcg::atomistic {
 
@@ -52,13 +61,14 @@ AtomLine atom_line_of(const PotentialSpec& spec) {
       .expected("atomic, charge, bond, angle, molecular or full");
 }
 
-/// The potential commands rebuilt from the spec, with potential files resolved.
-std::vector<std::string> potential_commands(const PotentialSpec& spec) {
-  std::vector<std::string> cmds;
+/// The potential commands rebuilt from the spec, with potential files resolved, and the line
+/// of spec.source each comes from.
+std::vector<LammpsCommand> potential_commands(const PotentialSpec& spec) {
+  std::vector<LammpsCommand> cmds;
   for (int t = 1; t < static_cast<int>(spec.type_mass.size()); ++t)
     if (!std::isnan(spec.type_mass[static_cast<std::size_t>(t)]))
       cmds.push_back(
-          fmt::format("mass {} {}", t, g17(spec.type_mass[static_cast<std::size_t>(t)])));
+          {fmt::format("mass {} {}", t, g17(spec.type_mass[static_cast<std::size_t>(t)])), 0});
   // words appended with std::string::append (GCC 12 reports a false -Wrestrict for " " + s)
   auto command = [](std::string_view head,
                     std::initializer_list<const std::vector<std::string>*> parts) {
@@ -69,7 +79,7 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
   };
   if (!spec.pair_style.empty()) {
     const std::vector<std::string> style{spec.pair_style};
-    cmds.push_back(command("pair_style", {&style, &spec.pair_style_args}));
+    cmds.push_back({command("pair_style", {&style, &spec.pair_style_args}), spec.pair_style_line});
     for (const auto& c : spec.pair_coeff) {
       std::vector<std::string> args = c.args;
       const std::string file = coeff_file_argument(spec, c);
@@ -80,24 +90,47 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
             break;
           }
       const std::vector<std::string> types{c.i, c.j};
-      cmds.push_back(command("pair_coeff", {&types, &args}));
+      cmds.push_back({command("pair_coeff", {&types, &args}), c.line_number});
     }
-    if (!spec.pair_modify.empty()) cmds.push_back(command("pair_modify", {&spec.pair_modify}));
+    if (!spec.pair_modify.empty())
+      cmds.push_back({command("pair_modify", {&spec.pair_modify}), spec.pair_style_line});
   }
   if (!spec.bond_style.empty()) {
     const std::vector<std::string> style{spec.bond_style};
-    cmds.push_back(command("bond_style", {&style, &spec.bond_style_args}));
+    cmds.push_back({command("bond_style", {&style, &spec.bond_style_args}), spec.bond_style_line});
     for (const auto& c : spec.bond_coeff) {
       const std::vector<std::string> type{c.i};
-      cmds.push_back(command("bond_coeff", {&type, &c.args}));
+      cmds.push_back({command("bond_coeff", {&type, &c.args}), c.line_number});
     }
   }
   if (!spec.bond_style.empty())
-    cmds.push_back(fmt::format("special_bonds lj {} {} {} coul {} {} {}", g17(spec.special_lj[0]),
-                               g17(spec.special_lj[1]), g17(spec.special_lj[2]),
-                               g17(spec.special_coul[0]), g17(spec.special_coul[1]),
-                               g17(spec.special_coul[2])));
+    cmds.push_back(
+        {fmt::format("special_bonds lj {} {} {} coul {} {} {}", g17(spec.special_lj[0]),
+                     g17(spec.special_lj[1]), g17(spec.special_lj[2]), g17(spec.special_coul[0]),
+                     g17(spec.special_coul[1]), g17(spec.special_coul[2])),
+         0});
   return cmds;
+}
+
+/// The `lmp` executable: $PDCG_LMP, else `lmp` on PATH; empty if none.
+std::string lmp_executable() {
+  if (const char* e = std::getenv("PDCG_LMP"); e && *e) return e;
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    if (dir.empty()) continue;
+    const std::string p = dir + "/lmp";
+    if (access(p.c_str(), X_OK) == 0) return p;
+  }
+  return {};
+}
+
+std::string trim(std::string s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
 }
 
 }  // namespace
@@ -105,12 +138,208 @@ std::vector<std::string> potential_commands(const PotentialSpec& spec) {
 
 #if PDCG_WITH_LAMMPS
 std::vector<std::string> lammps_potential_commands(const PotentialSpec& spec) {
+  std::vector<std::string> out;
+  for (auto& c : potential_commands(spec)) out.push_back(std::move(c.text));
+  return out;
+}
+
+std::vector<LammpsCommand> lammps_potential_command_lines(const PotentialSpec& spec) {
   return potential_commands(spec);
+}
+
+bool check_lammps_commands(const std::vector<LammpsCommand>& commands, const PotentialSpec& spec,
+                           std::string_view context) {
+  static std::mutex mutex;  // the warning set and the one-time notice
+  static std::set<std::string> warned;
+  const std::string lmp = lmp_executable();
+  if (lmp.empty()) {
+    std::lock_guard<std::mutex> lock(mutex);
+    static bool told = false;
+    if (!told)
+      log::warn(
+          "no `lmp` executable on PATH (or $PDCG_LMP): LAMMPS errors in embedded LAMMPS cannot "
+          "be reported; such an error stops pdcg with exit code 1 and no message");
+    told = true;
+    return false;
+  }
+  std::string dir_tmpl = (std::filesystem::temp_directory_path() / "pdcg_lmpcheck_XXXXXX").string();
+  if (!mkdtemp(dir_tmpl.data()))
+    throw InputError("cannot create a temporary directory for LAMMPS")
+        .value(dir_tmpl)
+        .fix("check TMPDIR");
+  const std::filesystem::path dir(dir_tmpl);
+  struct RemoveDir {
+    std::filesystem::path p;
+    ~RemoveDir() {
+      std::error_code ec;
+      std::filesystem::remove_all(p, ec);
+    }
+  } remove_dir{dir};
+  const std::string in = (dir / "in.pdcg").string(), logf = (dir / "log.lammps").string(),
+                    out = (dir / "out.txt").string();
+  {
+    std::ofstream f(in);
+    for (const auto& c : commands) f << c.text << '\n';
+    if (!f) throw InputError("cannot write a temporary LAMMPS input").value(in);
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::vector<std::string> argv_s{lmp, "-in", in, "-log", logf, "-screen", "none", "-nocite"};
+  std::vector<char*> argv;
+  for (auto& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  // one OpenMP thread in the child (LAMMPS otherwise prints a notice; no effect on results)
+  std::vector<std::string> env_s{"OMP_NUM_THREADS=1"};
+  for (char** e = environ; e && *e; ++e)
+    if (std::string_view(*e).rfind("OMP_NUM_THREADS=", 0) != 0) env_s.emplace_back(*e);
+  std::vector<char*> envp;
+  for (auto& e : env_s) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, lmp.c_str(), &actions, nullptr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0)
+    throw InputError("cannot start the LAMMPS executable that checks the commands")
+        .value(lmp)
+        .fix("check the LAMMPS installation, or set PDCG_LMP to its `lmp` executable");
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) break;
+  // LAMMPS's log: ERROR lines, the failing command, WARNING lines
+  std::string error, last;
+  std::vector<std::string> warnings;
+  {
+    std::ifstream f(logf);
+    std::string l;
+    while (std::getline(f, l)) {
+      if (l.rfind("ERROR", 0) == 0) {
+        const auto colon = l.find(": ");
+        if (error.empty()) error = trim(colon == std::string::npos ? l : l.substr(colon + 2));
+      } else if (l.rfind("Last command:", 0) == 0) {
+        last = trim(l.substr(13));
+      } else if (l.rfind("WARNING: ", 0) == 0 && l.find("No fixes defined") == std::string::npos) {
+        // (pdcg's own `run 0` has no fixes by design: that warning is not the user's)
+        warnings.push_back(trim(l.substr(9)));
+      }
+    }
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (const auto& w : warnings)
+      if (warned.insert(w).second) log::warn("LAMMPS ({}): {}", spec.source, w);
+  }
+  const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (ok && error.empty()) return true;
+  std::string output;
+  {
+    std::ifstream f(out);
+    std::string l;
+    while (std::getline(f, l))
+      if (!trim(l).empty() && output.size() < 2000)
+        output += (output.empty() ? "" : " | ") + trim(l);
+  }
+  if (error.empty())
+    error = WIFSIGNALED(status)
+                ? fmt::format("LAMMPS crashed (signal {}){}", WTERMSIG(status),
+                              output.empty() ? "" : ": " + output)
+                : fmt::format("LAMMPS stopped with exit status {} and no ERROR line{}",
+                              WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+                              output.empty() ? "" : ": " + output);
+  // the failing command: LAMMPS's "Last command", else the last command the log echoes
+  long line = 0;
+  std::string failed = last;
+  for (const auto& c : commands)
+    if (!last.empty() && trim(c.text) == last) {
+      line = c.line;
+      failed = c.text;
+    }
+  std::string key = failed.substr(0, failed.find(' '));
+  if (line == 0) {
+    // pdcg's own command (read_data, run 0, …): the error is about the model as a whole
+    line = spec.pair_style_line ? spec.pair_style_line : spec.bond_style_line;
+    key = spec.pair_style.empty() ? "bond_style" : "pair_style";
+  }
+  InputError e(fmt::format("LAMMPS error while {}", context));
+  e.source(spec.source).line(line).key(key).value(error);
+  if (!failed.empty())
+    e.expected(fmt::format("a model LAMMPS accepts (failing command: {})", failed));
+  e.fix("correct the command LAMMPS names (https://docs.lammps.org/Errors_messages.html)");
+  throw e;
 }
 #endif
 
+void require_engine_representable(const PotentialSpec& spec) {
+  std::vector<std::string> styles{spec.pair_style};
+  if (spec.pair_style.rfind("hybrid", 0) == 0)
+    styles.insert(styles.end(), spec.pair_style_args.begin(), spec.pair_style_args.end());
+  for (const auto& st : styles)
+    if (st.find("/long") != std::string::npos || st.find("/msm") != std::string::npos ||
+        st.find("/pppm") != std::string::npos)
+      throw InputError(
+          "long-range (k-space) pair style: its reciprocal-space energy is not a sum over "
+          "finite families, so pdcg cannot represent it")
+          .source(spec.source)
+          .line(spec.pair_style_line)
+          .key("pair_style")
+          .value(st)
+          .expected("a pair style with a finite cutoff and no kspace_style")
+          .fix(
+              "use the cut-off form (lj/cut/coul/cut, buck/coul/cut, lj/cut/coul/dsf, "
+              "coul/wolf, …), or compute this model with LAMMPS itself");
+}
+
+void take_type_charges(PotentialSpec& spec, const Atoms& atoms) {
+  if ((spec.atom_style != "charge" && spec.atom_style != "full") || atoms.charge.empty()) return;
+  const int nt = std::max(spec.ntypes, 1);
+  std::vector<double> q(static_cast<std::size_t>(nt) + 1, std::nan(""));
+  std::vector<std::int64_t> first(q.size(), 0);
+  for (std::size_t i = 0; i < atoms.size(); ++i) {
+    const int t = atoms.type.empty() ? 1 : atoms.type[i];
+    if (t < 1 || t > nt) continue;  // reported by the type checks of the body
+    auto& qt = q[static_cast<std::size_t>(t)];
+    if (std::isnan(qt)) {
+      qt = atoms.charge[i];
+      first[static_cast<std::size_t>(t)] = atoms.id.empty() ? 0 : atoms.id[i];
+    } else if (atoms.charge[i] != qt)
+      throw InputError(
+          "atoms of one type carry different charges: the embedded-LAMMPS force states carry "
+          "one charge per atom type")
+          .key("charge")
+          .value(fmt::format("type {}: atom {} has q = {}, atom {} has q = {}", t,
+                             first[static_cast<std::size_t>(t)], fmt::format("{:.17g}", qt),
+                             atoms.id.empty() ? 0 : atoms.id[i],
+                             fmt::format("{:.17g}", atoms.charge[i])))
+          .expected("the same charge for every atom of a type")
+          .fix("give each charge its own atom type in the data file");
+  }
+  for (int t = 1; t <= nt; ++t) {
+    const auto k = static_cast<std::size_t>(t);
+    const double set = k < spec.type_charge.size() ? spec.type_charge[k] : std::nan("");
+    if (!std::isnan(set) && !std::isnan(q[k]) && set != q[k])
+      throw InputError("the potential commands and the configuration disagree on a charge")
+          .source(spec.source)
+          .key("set type charge")
+          .value(fmt::format("type {}: set type charge {}, data file {}", t,
+                             fmt::format("{:.17g}", set), fmt::format("{:.17g}", q[k])))
+          .expected("the same charge")
+          .fix("drop the `set type` line or correct the data file");
+  }
+  if (spec.type_charge.size() < q.size()) spec.type_charge.resize(q.size(), std::nan(""));
+  for (int t = 1; t <= nt; ++t) {
+    const auto k = static_cast<std::size_t>(t);
+    if (std::isnan(spec.type_charge[k]) && !std::isnan(q[k])) {
+      spec.type_charge[k] = q[k];
+      spec.lines.push_back(fmt::format("set type {} charge {}", t, fmt::format("{:.17g}", q[k])));
+    }
+  }
+}
+
 LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>()) {
   require_supported_styles(spec);
+  require_engine_representable(spec);
 #if !PDCG_WITH_LAMMPS
   throw InputError("embedded LAMMPS is not available in this build")
       .source(spec.source)
@@ -333,7 +562,10 @@ LammpsResult LammpsEngine::energy_derivatives(const Atoms& atoms, double step,
     for (std::size_t i = 0; i < n; ++i) {
       const int t = atoms.type.empty() ? 1 : atoms.type[i];
       const long long mol = atoms.molecule.empty() ? 1 : static_cast<long long>(atoms.molecule[i]);
-      const double q = atoms.charge.empty() ? 0.0 : atoms.charge[i];
+      double q = atoms.charge.empty() ? 0.0 : atoms.charge[i];
+      if (atoms.charge.empty() && static_cast<std::size_t>(t) < spec.type_charge.size() &&
+          !std::isnan(spec.type_charge[static_cast<std::size_t>(t)]))
+        q = spec.type_charge[static_cast<std::size_t>(t)];  // `set type T charge Q`
       out << (i + 1) << ' ';
       if (style == AtomLine::bond || style == AtomLine::full) out << mol << ' ';
       out << t << ' ';
@@ -364,23 +596,27 @@ LammpsResult LammpsEngine::energy_derivatives(const Atoms& atoms, double step,
     if (!out) throw InputError("cannot write the temporary LAMMPS data file").value(tmpl);
   }
 
+  std::vector<LammpsCommand> script{
+      {"units " + std::string(to_string(spec.units)), spec.units_line},
+      {"atom_style " + spec.atom_style, 0},
+      {"atom_modify map array sort 0 0.0", 0},
+      {fmt::format("boundary {} {} {}", box.periodic[0] ? 'p' : 'f', box.periodic[1] ? 'p' : 'f',
+                   box.periodic[2] ? 'p' : 'f'),
+       0}};
+  if (box.triclinic()) script.push_back({"box tilt large", 0});
+  script.push_back({"read_data " + tmpl, 0});
+  for (auto& c : potential_commands(spec)) script.push_back(std::move(c));
+  if (longest_bond > 0.0)
+    script.push_back({fmt::format("comm_modify cutoff {}", g17(1.5 * longest_bond)), 0});
+  for (const char* c :
+       {"compute pdcg_pe all pe/atom", "compute pdcg_pesum all reduce sum c_pdcg_pe",
+        "thermo_style custom step pe c_pdcg_pesum", "thermo_modify norm no", "run 0 post no"})
+    script.push_back({c, 0});
   std::vector<std::string>& cmds = impl_->commands;
   cmds.clear();
-  cmds.push_back("units " + std::string(to_string(spec.units)));
-  cmds.push_back("atom_style " + spec.atom_style);
-  cmds.push_back("atom_modify map array sort 0 0.0");
-  cmds.push_back(fmt::format("boundary {} {} {}", box.periodic[0] ? 'p' : 'f',
-                             box.periodic[1] ? 'p' : 'f', box.periodic[2] ? 'p' : 'f'));
-  if (box.triclinic()) cmds.push_back("box tilt large");
-  cmds.push_back("read_data " + tmpl);
-  for (auto& c : potential_commands(spec)) cmds.push_back(std::move(c));
-  if (longest_bond > 0.0)
-    cmds.push_back(fmt::format("comm_modify cutoff {}", g17(1.5 * longest_bond)));
-  cmds.push_back("compute pdcg_pe all pe/atom");
-  cmds.push_back("compute pdcg_pesum all reduce sum c_pdcg_pe");
-  cmds.push_back("thermo_style custom step pe c_pdcg_pesum");
-  cmds.push_back("thermo_modify norm no");
-  cmds.push_back("run 0 post no");
+  for (const auto& c : script) cmds.push_back(c.text);
+  // LAMMPS errors stop the process inside liblammps: run the script in `lmp` first
+  check_lammps_commands(script, spec, "evaluating the configuration");
 
 #ifdef _OPENMP
   const int threads = omp_get_max_threads();

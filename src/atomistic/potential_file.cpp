@@ -410,7 +410,7 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
     double value;
     long line;
   };
-  std::vector<MassCmd> masses;
+  std::vector<MassCmd> masses, charges;  // `mass`, `set type T charge Q`
 
   auto err = [&](const Command& c, std::string_view cmd, std::string problem) {
     InputError e(std::move(problem));
@@ -621,6 +621,30 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
       }
       spec.special_lj = lj;
       spec.special_coul = coul;
+    } else if (cmd == "set" && w.size() >= 5 && w[1] == "type" && w[3] == "charge") {
+      // per-type charges for embedded LAMMPS (atom_style charge/full); other `set` forms are
+      // per-atom edits of a configuration and are ignored below
+      if (w.size() != 5)
+        throw err(c, cmd, "only `set type T charge Q` is supported")
+            .value(c.text)
+            .expected("set type T charge Q")
+            .fix("give each charge its own atom type, or put the charges in the data file");
+      charges.push_back({w[2], parse_double(w[4], where), c.line});
+    } else if (cmd == "kspace_style" && !(w.size() >= 2 && w[1] == "none")) {
+      throw err(c, cmd, "long-range (k-space) electrostatics is not supported")
+          .value(c.text)
+          .expected("no kspace_style: a pair energy that is a sum over finite families")
+          .fix(
+              "use a cut-off coulomb pair style (lj/cut/coul/cut, lj/cut/coul/dsf, "
+              "coul/wolf, …) or compute this model with LAMMPS itself");
+    } else if ((cmd == "angle_style" || cmd == "dihedral_style" || cmd == "improper_style") &&
+               !(w.size() >= 2 && (w[1] == "none" || w[1] == "zero"))) {
+      throw err(c, cmd, "angle, dihedral and improper terms are not supported")
+          .value(c.text)
+          .expected("pair and bond styles only (or `" + cmd + " none`)")
+          .fix("drop the " + cmd +
+               " (its energy would be missing from every result), or "
+               "compute this model with LAMMPS itself");
     } else if (cmd == "create_box") {
       accepted = false;
       if (w.size() >= 2 && is_integer(w[1])) deck_ntypes = std::atoi(w[1].c_str());
@@ -663,6 +687,15 @@ PotentialSpec read_potential_commands_from_string(std::string_view text, std::st
       spec.type_mass.resize(static_cast<std::size_t>(hi + 1),
                             std::numeric_limits<double>::quiet_NaN());
     for (int t = lo; t <= hi; ++t) spec.type_mass[static_cast<std::size_t>(t)] = m.value;
+  }
+  for (const auto& q : charges) {
+    if (nt <= 0 && q.range.find('*') != std::string::npos) continue;
+    int lo, hi;
+    parse_type_range(q.range, nt, lo, hi, spec.source, q.line, "set");
+    if (hi >= static_cast<int>(spec.type_charge.size()))
+      spec.type_charge.resize(static_cast<std::size_t>(hi + 1),
+                              std::numeric_limits<double>::quiet_NaN());
+    for (int t = lo; t <= hi; ++t) spec.type_charge[static_cast<std::size_t>(t)] = q.value;
   }
   if (nt > 0) check_atom_types(spec, nt);
   check_file_units(spec);

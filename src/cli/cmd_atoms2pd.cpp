@@ -11,6 +11,7 @@
 
 #include "body_cli_util.hpp"
 #include "command.hpp"
+#include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/model_file.hpp"
@@ -87,6 +88,7 @@ int run(const Options& o) {
         .value(dump_units)
         .expected(fmt::format("'{}' (the `units` of {})", to_string(spec.units), o.potential))
         .fix("use the potential file the trajectory was produced with");
+  atomistic::take_type_charges(spec, ref);  // data-file charges for embedded LAMMPS, per type
   std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
   body::DeltaBodyOptions opt;
   opt.dimension = o.dimension;

@@ -13,14 +13,23 @@
 /// `atom_modify map array`, boundary from Box::periodic (non-periodic = `f`, the box widened to
 /// hold every atom), a temporary data file (box with tilt, masses, atoms, bonds) read by
 /// `read_data`, the potential commands rebuilt from the PotentialSpec (potential files replaced
-/// by their resolved paths), `compute pe/atom`, `run 0`. Debian's liblammps aborts the process
-/// on any LAMMPS error, so styles, files and type counts are validated before any command.
+/// by their resolved paths), `compute pe/atom`, `run 0`.
+///
+/// LAMMPS errors. Debian's liblammps is built without C++ exceptions
+/// (lammps_config_has_exceptions() == 0): any LAMMPS error calls exit(1) — or MPI_Abort —
+/// inside the library, and with `-screen none -log none` the message is lost. So pdcg checks
+/// what it can itself (styles, files, type counts), refuses what would give wrong forces
+/// (long-range electrostatics), and runs every command sequence once in a separate process of
+/// the `lmp` executable of the same LAMMPS installation (check_lammps_commands) before the
+/// library runs it: a LAMMPS error there becomes an InputError with LAMMPS's own message and
+/// the user's command and line; LAMMPS's warnings go to pdcg's log.
 #pragma once
 
 #include <functional>
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pdcg/atomistic/atoms.hpp"
@@ -72,6 +81,39 @@ class LammpsEngine {
 /// The LAMMPS commands of `spec` (mass, pair_style, pair_coeff with potential files resolved,
 /// pair_modify, bond_style, bond_coeff, special_bonds). Defined only when LAMMPS is embedded.
 std::vector<std::string> lammps_potential_commands(const PotentialSpec& spec);
+
+/// One LAMMPS command and the line of `spec.source` it comes from (0: pdcg's own command).
+struct LammpsCommand {
+  std::string text;
+  long line = 0;
+};
+
+/// lammps_potential_commands with the source line of each command.
+std::vector<LammpsCommand> lammps_potential_command_lines(const PotentialSpec& spec);
+
+/// Runs `commands` as an input script of the `lmp` executable in a child process
+/// (`$PDCG_LMP`, else `lmp` on PATH; the same installation as liblammps) and reads its log.
+/// A LAMMPS error (or a crash) throws InputError: source and line of the failing command in
+/// `spec.source` (the pair_style line when the failing command is pdcg's own, e.g. `run 0`),
+/// the command, LAMMPS's message, and `context` (what pdcg was doing). LAMMPS's WARNING lines
+/// are written to pdcg's log (each distinct text once per process). Returns false, after a
+/// one-time log warning, when no `lmp` executable is found: then a LAMMPS error stops the
+/// process as before. Defined only when LAMMPS is embedded.
+bool check_lammps_commands(const std::vector<LammpsCommand>& commands, const PotentialSpec& spec,
+                           std::string_view context);
+
+/// Refuses (InputError with the reason and the fix) what the engine cannot evaluate right:
+/// long-range (k-space) pair styles (`*/long`, `*/msm`), which need a kspace_style whose
+/// reciprocal-space energy is not a sum over finite families.
+void require_engine_representable(const PotentialSpec& spec);
+
+/// Per-type charges (PotentialSpec::type_charge) from the charges of a configuration, for the
+/// fallback Potential (its clusters carry charges per type). No-op for atom styles without
+/// charges, when `atoms` carries none, or when the spec sets every type's charge already
+/// (`set type T charge Q`; a configuration that disagrees with those is an InputError).
+/// InputError when two atoms of one type carry different charges: the fix is one type per
+/// charge. Adds the `set type T charge Q` lines to spec.lines (so model files keep them).
+void take_type_charges(PotentialSpec& spec, const Atoms& atoms);
 
 /// Force states of a style evaluated by embedded LAMMPS (many-body through the per-atom
 /// energy, docs/theory.md §1): ψ_k and t_b = ∂ψ_k/∂Y⟨ξ_b⟩ for every bond b = (k → j) of

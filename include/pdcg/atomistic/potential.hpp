@@ -47,6 +47,9 @@ struct PotentialSpec {
   std::string atom_style = "atomic";
   /// `mass` commands: type_mass[t] for t = 1..ntypes (index 0 unused), NaN if unset.
   std::vector<double> type_mass;
+  /// `set type T charge Q` commands (or the data file's charges, take_type_charges):
+  /// type_charge[t] for t = 1..ntypes, NaN if unset; empty = none. Used by embedded LAMMPS.
+  std::vector<double> type_charge;
   int ntypes = 0;          ///< number of atom types (from masses/coefficients or the data file)
   std::string pair_style;  ///< e.g. "lj/cut", "eam/alloy", "zero", "tersoff"; empty = none
   std::vector<std::string> pair_style_args;
