@@ -469,6 +469,11 @@ def systems():
         run 1500
         unfix npt
         minimize 1e-12 1e-12 2000 20000"""), elastic="glass",
+        # CuZr_mm tabulates r every 7.6e-4 Å and its spline's curvature jumps at the knots:
+        # ±h strains move the glass's 28680 bonds across knots, and LAMMPS's finite-difference
+        # C22 reads 1.4920 / 1.49246 / 1.49263 eV/Å³ at h = 3e-4 / 1e-4 / 3e-5 (measured),
+        # converging to pdcg's analytic (one-sided) 1.49264: 1e-3 of max |C|.
+        tol_c=1e-3,
         note="256 atoms, melt–quench + minimise; affine C"))
     # 11. 2D LJ on the triangular lattice, dimension 2.
     L.append(S("lj_2d_hex", "lj", lines("""
@@ -536,7 +541,9 @@ def systems():
         create_atoms 1 box
         mass 1 1.0"""), lines("""
         pair_style lj/smooth/linear 2.0
-        pair_coeff 1 1 1.0 1.0"""), pot_extra=["mass 1 1.0"], engine=True, elastic=True,
+        pair_coeff 1 1 1.0 1.0"""), pot_extra=["mass 1 1.0"], engine=True,
+        # no `elastic` here: the engine's tangent is a finite difference of finite differences
+        # over a 2 r_c family (~6n(6n+1) LAMMPS runs), > 3 min for this 32-atom crystal
         displace=0.03, note="engine, fcc 32 atoms"))
     L.append(S("buck_rocksalt_engine", "metal", lines("""
         lattice fcc 5.64
@@ -706,7 +713,7 @@ def run_system(s, ctx):
         idx = [0, 1, 5] if dim == 2 else list(range(6))
         Cp2, Cl2 = Cp[np.ix_(idx, idx)], Cl[np.ix_(idx, idx)]
         cerr = np.max(np.abs(Cp2 - Cl2)) / max(np.max(np.abs(Cl2)), 1e-300)
-        tolc = TOL_C_ENGINE if s["engine"] else TOL_C_NATIVE
+        tolc = s.get("tol_c") or (TOL_C_ENGINE if s["engine"] else TOL_C_NATIVE)
         if s["elastic"] == "glass-stress":
             cerr, tolc = 0.0, 1.0
         conv = 160.21766 if s["units"] == "metal" else 1.0
