@@ -568,7 +568,11 @@ def systems():
         mass 1 1.0"""), lines("""
         pair_style table spline 2000
         pair_coeff 1 1 lj.table LJ 2.2"""), pot_extra=["mass 1 1.0"], engine=True,
-        table=True, displace=0.03, note="engine, fcc 32, table file written here"))
+        # pair_style table interpolates the E and F columns separately; pdcg differentiates
+        # pe/atom, so its force is dE/dr of LAMMPS's energy spline, which differs from the
+        # interpolated F column by the table's interpolation error (measured 9.4e-8 of max |f|
+        # with N = 2000 on 0.5–2.5 σ): 1e-6
+        tol_f=1e-6, table=True, displace=0.03, note="engine, fcc 32, table file written here"))
     return L
 
 
@@ -679,7 +683,7 @@ def run_system(s, ctx):
                        + s["a2p"])
     horizon = float(re.search(r"horizon ([0-9.eE+-]+)", out).group(1))
     ferr, fmax = force_error(ctx, "ref.h5", rows, cols_l)
-    tolf = TOL_F_ENGINE if s["engine"] else TOL_F_NATIVE
+    tolf = s.get("tol_f") or (TOL_F_ENGINE if s["engine"] else TOL_F_NATIVE)
     ipe = cols_l.index("c_pe")
     pes = np.array([rows[k][ipe] for k in rows])
     e = energy(ctx, "ref.h5")["energy"]
