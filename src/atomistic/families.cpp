@@ -70,10 +70,31 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
           .fix("replicate the configuration (LAMMPS `replicate`) or use a smaller cutoff");
 
   const Eigen::Matrix3d Hinv = box.h_inverse();
+  // Positions may be unwrapped (data files and dumps with image flags give x + H·image), so
+  // two neighbours can be several box lengths apart. The search runs on the positions wrapped
+  // into the box along the periodic directions, x_i − H w_i with w_i = ⌊s_i⌋, and a pair found
+  // at shift n between wrapped positions is the shift n + w_i − w_j between the given ones.
   std::vector<Eigen::Vector3d> frac(n);
-  for (std::size_t i = 0; i < n; ++i)
-    frac[i] =
-        Hinv * (Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]) - box.lo);
+  std::vector<std::array<std::int32_t, 3>> wrap(n, {0, 0, 0});
+  std::vector<Eigen::Vector3d> xw(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]);
+    frac[i] = Hinv * (x - box.lo);
+    Eigen::Vector3d w = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      if (box.periodic[static_cast<std::size_t>(k)] && std::isfinite(frac[i][k])) {
+        w[k] = std::floor(frac[i][k]);
+        if (std::abs(w[k]) > 1e9)
+          throw InputError("atom far outside the periodic box")
+              .key(fmt::format("x of atom id {}", atoms.id[i]))
+              .value(fmt::format("{} box lengths along direction {}", w[k], k))
+              .expected("positions within a few box lengths of the box")
+              .fix("check the positions and the box of the configuration");
+        wrap[i][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(w[k]);
+      }
+    frac[i] -= w;
+    xw[i] = x - H * w;
+  }
 
   // Fractional range of the originals, then the margin where images can matter.
   Eigen::Vector3d smin = frac[0], smax = frac[0];
@@ -88,9 +109,7 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
   std::vector<Entry> entries;
   entries.reserve(n * 2);
   for (std::size_t i = 0; i < n; ++i)
-    entries.push_back({static_cast<std::int32_t>(i),
-                       {0, 0, 0},
-                       Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2])});
+    entries.push_back({static_cast<std::int32_t>(i), {0, 0, 0}, xw[i]});
   for (int a = -shells[0]; a <= shells[0]; ++a)
     for (int b = -shells[1]; b <= shells[1]; ++b)
       for (int c = -shells[2]; c <= shells[2]; ++c) {
@@ -102,10 +121,7 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
           if ((s.array() < (smin - margin).array()).any() ||
               (s.array() > (smax + margin).array()).any())
             continue;
-          entries.push_back(
-              {static_cast<std::int32_t>(i),
-               {a, b, c},
-               Eigen::Vector3d(atoms.x[3 * i], atoms.x[3 * i + 1], atoms.x[3 * i + 2]) + cart});
+          entries.push_back({static_cast<std::int32_t>(i), {a, b, c}, xw[i] + cart});
         }
       }
 
@@ -164,8 +180,14 @@ Families build_families(const Atoms& atoms, const FamilyOptions& options) {
                s < head[static_cast<std::size_t>(id + 1)]; ++s) {
             const auto e = static_cast<std::size_t>(sorted[static_cast<std::size_t>(s)]);
             if (e == i) continue;
-            if ((entries[e].pos - p).squaredNorm() < rc2)
-              out.push_back({entries[e].atom, entries[e].shift});
+            if ((entries[e].pos - p).squaredNorm() < rc2) {
+              const auto& wi = wrap[i];
+              const auto& wj = wrap[static_cast<std::size_t>(entries[e].atom)];
+              const auto& sh = entries[e].shift;
+              out.push_back(
+                  {entries[e].atom,
+                   {sh[0] + wi[0] - wj[0], sh[1] + wi[1] - wj[1], sh[2] + wi[2] - wj[2]}});
+            }
           }
         }
   }

@@ -159,6 +159,14 @@ Body make_delta_body(const atomistic::Atoms& atoms_in,
         .fix("check the input file");
   atomistic::Atoms atoms = atoms_in;
   atomistic::sort_by_id(atoms, options.source);
+  // A 2D body is LAMMPS's `dimension 2`: the atoms interact in the xy plane only. LAMMPS keeps
+  // z periodic in 2D (its dumps say `pp` for z) but makes no ghost atoms along z, so z images
+  // are not neighbours; counting them (a thin z box, 1 lattice unit) multiplies the energy.
+  if (options.dimension == 2 && atoms.box.periodic[2]) {
+    atoms.box.periodic[2] = false;
+    log::info("{}: body dimension 2: no periodic images along z (as LAMMPS's `dimension 2`)",
+              options.source.empty() ? std::string("atoms") : options.source);
+  }
   if (atoms.type.empty())
     throw InputError("the configuration has no atom types")
         .source(options.source)

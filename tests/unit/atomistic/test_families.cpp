@@ -206,3 +206,42 @@ TEST(Families, MolecularBondsJoinFamiliesWithSpecialFactors) {
   std::vector<Bond> bad{{1, 1, 99}};
   EXPECT_THROW(build_families(a, {1.5, &bad}), pdcg::InputError);
 }
+
+TEST(Families, UnwrappedPositionsSeveralBoxesApartMatchWrapped) {
+  // Data files and dumps with image flags give unwrapped positions x + H·image; after a melt
+  // neighbours can carry image flags that differ by 2 or more. The families (energy, forces,
+  // bond count) must be those of the wrapped configuration, checked by brute force.
+  Box b;
+  b.lo = {0, 0, 0};
+  b.hi = {5, 6, 7};
+  b.xy = 0.7;
+  b.yz = -0.4;
+  const Atoms wrapped = random_atoms(60, b, 5);
+  Atoms unwrapped = wrapped;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> img(-3, 3);
+  const Eigen::Matrix3d H = b.h();
+  int far = 0;
+  for (std::size_t i = 0; i < unwrapped.size(); ++i) {
+    const Eigen::Vector3d n(img(rng), img(rng), img(rng));
+    far += n.cwiseAbs().maxCoeff() >= 2;
+    const Eigen::Vector3d d = H * n;
+    for (int k = 0; k < 3; ++k) unwrapped.x[3 * i + static_cast<std::size_t>(k)] += d[k];
+  }
+  ASSERT_GT(far, 20);  // many atoms two or three boxes away from their neighbours
+  const double rc = 2.2;
+  const Springs pot(2.0, 0.9, rc);
+  const Families fw = build_families(wrapped, {rc}), fu = build_families(unwrapped, {rc});
+  EXPECT_EQ(fu.bonds(), fw.bonds());
+  std::vector<double> Y(3 * fu.bonds()), t(3 * fu.bonds()), psi(unwrapped.size()),
+      f(3 * unwrapped.size());
+  deformed_bonds(fu, unwrapped.x, fu.h, Y);
+  const double U = force_states(pot, fu, unwrapped.type, Y, psi, t);
+  pd_forces(fu, t, f);
+  double Uref;
+  std::vector<double> fref;
+  brute_force(wrapped, 2.0, 0.9, rc, Uref, fref);
+  // bond vectors x_j − x_i + H n of positions ~20 box units: round-off ~1e-14 relative
+  EXPECT_TRUE(pdcg::test::close(U, Uref, {1e-11, 1e-11}));
+  EXPECT_LT(pdcg::test::max_norm_relative_error(f, fref), 1e-11);
+}

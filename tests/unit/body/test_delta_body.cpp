@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/body.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg_test.hpp"
@@ -262,4 +264,44 @@ TEST(DeltaBody, BondStyleWithoutBondsIsRefused) {
   // `bond_coeff 2*` reaches type 2 (and any beyond)
   s.bond_coeff.push_back({"2*", "", {"50", "1.1"}, "bond_coeff 2* 50 1.1", 6});
   EXPECT_NO_THROW((void)make_delta_body(a, pot, s, {.source = "mol.data"}));
+}
+
+// A body of dimension 2 is LAMMPS's `dimension 2`: atoms interact in the xy plane only, although
+// LAMMPS keeps z periodic (a 2D dump says `pp` for z, with a box one lattice unit thick). The
+// energy of a triangular LJ crystal must be the in-plane lattice sum, with no z images.
+TEST(DeltaBody, Dimension2HasNoImagesAlongZ) {
+  const double a = 1.1, rc = 2.5;
+  const int nx = 8, ny = 5;  // box 8.8 × 9.53: more than 2 rc in-plane
+  atomistic::Atoms at;
+  at.box.lo = {0, 0, -0.5};
+  at.box.hi = {nx * a, ny * a * std::sqrt(3.0), 0.5};
+  at.box.periodic = {true, true, true};
+  std::int64_t id = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int b = 0; b < 2; ++b) {
+        at.id.push_back(++id);
+        at.type.push_back(1);
+        at.x.insert(at.x.end(), {(i + 0.5 * b) * a, (j + 0.5 * b) * a * std::sqrt(3.0), 0.0});
+      }
+  at.type_mass = {0.0, 1.0};
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n", "lj2d.pot", 1);
+  const Body b = make_delta_body(at, atomistic::make_potential(spec), spec,
+                                 {.dimension = 2, .cutoff = 0.0, .source = "hex2d"});
+  Evaluator ev(b);
+  const double U = ev.reference().energy;
+  // closed form: ½ Σ φ(|i a1 + j a2|) over the triangular lattice within rc, per atom
+  double per_atom = 0.0;
+  for (int i = -6; i <= 6; ++i)
+    for (int j = -6; j <= 6; ++j) {
+      if (i == 0 && j == 0) continue;
+      const double x = (i + 0.5 * j) * a, y = j * a * std::sqrt(3.0) / 2;
+      const double r = std::hypot(x, y);
+      if (r < rc) per_atom += 0.5 * 4.0 * (std::pow(r, -12) - std::pow(r, -6));
+    }
+  const double want = per_atom * static_cast<double>(at.size());
+  // the same pair sum in another order: round-off
+  EXPECT_TRUE(test::close(U, want, {0, 1e-12})) << U << " vs " << want;
+  EXPECT_FALSE(b.box.periodic[2]);
 }
