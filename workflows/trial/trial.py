@@ -171,9 +171,11 @@ def dump_box(bnd):
 
 
 def read_csv(path):
+    # pdcg's CSVs may open with '#' comment lines (the units line): skipped, as CSV readers do
     with open(path) as f:
-        head = f.readline().strip().split(",")
-        data = [list(map(float, ln.split(","))) for ln in f if ln.strip()]
+        lines = [ln for ln in f if ln.strip() and not ln.startswith("#")]
+    head = lines[0].strip().split(",")
+    data = [list(map(float, ln.split(","))) for ln in lines[1:]]
     return head, np.array(data)
 
 
