@@ -291,3 +291,20 @@ TEST(PotentialFile, PotentialFileUnitsAsLammps) {
       "pair_style eam\npair_coeff 1 1 " + untagged + "\n", "untagged.in", 1));
   std::filesystem::remove(untagged);
 }
+
+// A molecular deck's angle, dihedral and improper terms would be silently missing from every
+// energy and force of a body made of pair and bond families: refused at their line.
+TEST(PotentialFile, AngleDihedralImproperStylesAreRefused) {
+  for (const std::string cmd : {"angle_style", "dihedral_style", "improper_style"}) {
+    const std::string deck = "units real\npair_style lj/cut 10.0\npair_coeff * * 0.1 3.0\n" + cmd +
+                             " harmonic\nbond_style harmonic\n";
+    const auto e = input_error([&] { read_potential_commands_from_string(deck, "mol.in", 1); });
+    EXPECT_EQ(e.line_number(), 4) << cmd;
+    EXPECT_EQ(e.key_name(), cmd);
+    EXPECT_NE(std::string(e.what()).find("not supported"), std::string::npos) << e.what();
+    // `none` and `zero` add no energy: accepted
+    EXPECT_NO_THROW(read_potential_commands_from_string(
+        "pair_style lj/cut 10.0\npair_coeff * * 0.1 3.0\n" + cmd + " none\n", "mol.in", 1))
+        << cmd;
+  }
+}
