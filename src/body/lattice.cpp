@@ -166,9 +166,15 @@ LatticeInfo detect_lattice(const Body& body, const LatticeOptions& options) {
   std::sort(t.begin(), t.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return a.squaredNorm() < b.squaredNorm();
   });
+  // translations of a d-dimensional body lie in the span of its first d box edges (a 2D body
+  // whose z is periodic in the input has images along z that are not lattice vectors of it)
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  if (d == 2) normal = H.col(0).cross(H.col(1)).normalized();
   std::vector<Eigen::Vector3d> p;
   for (const auto& v : t) {
     if (v.norm() <= tol) continue;
+    if (d == 2 && std::abs(v.dot(normal)) > tol) continue;
+    if (d == 1 && H.col(0).normalized().cross(v).norm() > tol) continue;
     if (static_cast<int>(p.size()) == d) break;
     if (p.empty()) {
       p.push_back(v);
@@ -191,6 +197,7 @@ LatticeInfo detect_lattice(const Body& body, const LatticeOptions& options) {
       box_measure = std::abs(H.determinant());
     }
     const double expect = box_measure * info.basis / static_cast<double>(n);
+
     if (std::abs(measure - expect) <= 1e-6 * expect) info.primitive = p;
   }
   info.summary =

@@ -41,10 +41,11 @@ body::Body crystal(const std::string& name, const std::string& deck, int ntypes,
       "cd " + dir.string() + " && lmp -in in.make -log none -screen none -nocite > lmp.out 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << "lmp failed, see " << dir / "lmp.out";
   auto atoms = atomistic::read_data_file((dir / "conf.data").string());
+  if (dimension == 2) atoms.box.periodic[2] = false;  // a 2D body is free along z (p p f)
   const std::string pot =
       "units lj\npair_style lj/cut " + std::to_string(rc) + "\npair_coeff * * 1.0 1.0\n";
   auto spec = atomistic::read_potential_commands_from_string(pot, name, ntypes);
-  auto p = atomistic::make_potential(spec);
+  std::shared_ptr<const atomistic::Potential> p = atomistic::make_potential(spec);
   body::Body b = body::make_delta_body(atoms, p, spec,
                                        {.dimension = dimension, .cutoff = 0.0, .source = name});
   fs::remove_all(dir);
