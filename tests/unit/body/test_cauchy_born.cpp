@@ -325,7 +325,8 @@ TEST(CauchyBorn, SolverMaterialAdapterAndEnvironmentClasses) {
 // The refusal for statistical bodies names the option that makes a body statistical
 // (`pdcg atoms2pd --density statistical`; `--statistics` only chooses the form of the density).
 TEST(CauchyBorn, StatisticalRefusalNamesTheRealOption) {
-  Model m = model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 2, 1.5599);
+  Model m =
+      model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 2, 1.5599);
   Statistics s;
   s.covariance.assign(6 * m.body.size(), 0.0);
   for (std::size_t k = 0; k < m.body.size(); ++k)
@@ -344,7 +345,8 @@ TEST(CauchyBorn, StatisticalRefusalNamesTheRealOption) {
 // Clamped-ion note: none for a perfect Bravais lattice; a warning for a crystal with a basis
 // whose sites are not inversion centres; an info note for a crystal that is not perfect.
 TEST(CauchyBorn, LatticeNote) {
-  const Model m = model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3, 1.5599);
+  const Model m =
+      model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3, 1.5599);
   const CauchyBorn cb(m.body);
   EXPECT_TRUE(cb.lattice().bravais());
   EXPECT_TRUE(cauchy_born_lattice_note(cb.lattice()).text.empty());
