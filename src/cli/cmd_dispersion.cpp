@@ -242,35 +242,10 @@ std::string units_line(const pdcg::body::Body& body) {
       body.units == pdcg::UnitStyle::lj ? "; reduced units" : "");
 }
 
-/// --plot: the PNG's directory must exist and be writable, and /usr/bin/python3 must have
-/// matplotlib — checked before any computation, so a bad path costs nothing and names itself.
+/// --plot: /usr/bin/python3 must have matplotlib — checked before any computation (the PNG's
+/// directory is checked, and created when missing, by require_writable_output in the runner).
 void check_plot_target(const std::string& png) {
   if (png.empty()) return;
-  namespace fs = std::filesystem;
-  const fs::path parent =
-      fs::path(png).parent_path().empty() ? fs::path(".") : fs::path(png).parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(parent, ec))
-    throw pdcg::InputError(fs::exists(parent, ec) ? "the plot's directory is not a directory"
-                                                  : "the plot's directory does not exist")
-        .key("--plot")
-        .value(png)
-        .expected(
-            fmt::format("a PNG path in an existing, writable directory ({})", parent.string()))
-        .fix(
-            fmt::format("create it first (mkdir -p '{}') or choose another path", parent.string()));
-  if (::access(parent.c_str(), W_OK) != 0)
-    throw pdcg::InputError("the plot's directory is not writable")
-        .key("--plot")
-        .value(png)
-        .expected(fmt::format("a PNG path in a writable directory ({} is read-only for this user)",
-                              parent.string()))
-        .fix("choose a writable directory for --plot");
-  if (fs::is_directory(png, ec))
-    throw pdcg::InputError("the plot path is a directory")
-        .key("--plot")
-        .value(png)
-        .expected("a PNG file name, e.g. dispersion.png");
   if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
     throw pdcg::InputError("--plot needs /usr/bin/python3 with matplotlib")
         .key("--plot")
