@@ -1,5 +1,7 @@
 #include "pdcg/body/cauchy_born.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -8,6 +10,7 @@
 #include <tuple>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 
 namespace pdcg::body {
 
@@ -18,8 +21,8 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
         .value("statistical")
         .expected("a delta, homogenised or rescaled body")
         .fix(
-            "build the Cauchy–Born material from the delta body (before `pdcg atoms2pd "
-            "--statistics`)");
+            "build the Cauchy–Born material from the delta body: rerun `pdcg atoms2pd` without "
+            "`--density statistical` (the default `--density delta`)");
   if (!body.potential) throw InputError("body has no potential").fix("rebuild the body file");
   if (body.families.points() != body.size() || body.size() == 0)
     throw InputError("body has no families").fix("rebuild the body with `pdcg atoms2pd`");
@@ -28,6 +31,13 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
         .key("box")
         .expected("a box whose first `dimension` edges span a positive measure")
         .fix("give the configuration a box (periodic for a perfect crystal)");
+  lattice_ = detect_lattice(body);
+  if (const auto note = cauchy_born_lattice_note(lattice_); !note.text.empty()) {
+    if (note.warning)
+      log::warn("{}", note.text);
+    else
+      log::info("{}", note.text);
+  }
   // Equivalence classes of atoms: same type and the same multiset of (ξ rounded to
   // 1e-10·horizon, partner type, pair factor, bond type). A perfect Bravais crystal has one
   // class, so W, P, A cost one family instead of N.
@@ -602,6 +612,24 @@ double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direct
     sprev = sl;
   }
   return 0.0;
+}
+
+LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice) {
+  if (lattice.bravais()) return {};
+  if (lattice.perfect && lattice.centrosymmetric) return {};
+  if (lattice.perfect)
+    return {fmt::format(
+                "Cauchy–Born: {}, whose sites are not centres of inversion (as in diamond, hcp, "
+                "honeycomb): every atom follows F, the basis is not relaxed, so W, P and the "
+                "elastic constants are the clamped-ion (unrelaxed) values — too stiff, shear "
+                "constants such as C44 most. pdcg has no inner relaxation: use the relaxed "
+                "constants of LAMMPS (minimize the atoms at each strain) where they matter",
+                lattice.summary),
+            true};
+  return {fmt::format("Cauchy–Born: {}: W, P and C are those of the atoms held at the affinely "
+                      "deformed positions (no relaxation of defect, surface or displaced atoms)",
+                      lattice.summary),
+          false};
 }
 
 }  // namespace pdcg::body

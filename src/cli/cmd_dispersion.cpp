@@ -1,5 +1,6 @@
 /// `pdcg dispersion`: measured dispersion of a trajectory (and, with a body file, the model's).
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,12 +15,14 @@
 
 #include "command.hpp"
 #include "pdcg/atomistic/dump_reader.hpp"
+#include "pdcg/body/lattice.hpp"
 #include "pdcg/body/model_file.hpp"
 #include "pdcg/config.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/parse.hpp"
 #include "pdcg/core/progress.hpp"
+#include "pdcg/core/units.hpp"
 #include "pdcg/dispersion/body_dispersion.hpp"
 #include "pdcg/dispersion/curves.hpp"
 #include "pdcg/dispersion/trajectory.hpp"
@@ -134,6 +137,10 @@ int run_trajectory(const Options& o) {
   if (!o.compare.empty()) ref = read_curves(o.compare);
   double worst = 0.0, worst_k = 0.0;
   pdcg::io::AtomicTextFile csv(o.output);
+  // units line (docs/formats.md): a dump carries no unit style; κ is in the inverse length of
+  // its coordinates, ω in radians per time unit of the frame interval (ITEM: TIME or --dt)
+  csv.stream() << "# pdcg dispersion --trajectory: kappa [1/length of the dump], omega, "
+                  "resolution [rad per time unit of ITEM: TIME or --dt], power [arbitrary]\n";
   csv.stream() << "kappa,omega,power,resolution"
                << (o.compare.empty() ? "" : ",omega_ref,error,error_in_bins") << "\n";
   for (const auto& p : ridge) {
@@ -224,6 +231,62 @@ Eigen::Vector3d parse_vector(const std::string& text, const char* option) {
   return {v[0], v[1], v[2]};
 }
 
+/// First line of a model-dispersion CSV (docs/formats.md): the body's unit style and the unit
+/// of every column. ω is an angular frequency, ω² = eigenvalue of the dynamical matrix
+/// (mvv2e applied), in radians per time unit of the style.
+std::string units_line(const pdcg::body::Body& body) {
+  const auto un = pdcg::unit_names(body.units);
+  return fmt::format(
+      "# pdcg dispersion: units {}; kappa, kx, ky, kz [{}], omega* [{}] (angular frequency{})\n",
+      pdcg::to_string(body.units), un.wavenumber, un.frequency,
+      body.units == pdcg::UnitStyle::lj ? "; reduced units" : "");
+}
+
+/// --plot: /usr/bin/python3 must have matplotlib — checked before any computation (the PNG's
+/// directory is checked, and created when missing, by require_writable_output in the runner).
+void check_plot_target(const std::string& png) {
+  if (png.empty()) return;
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
+    throw pdcg::InputError("--plot needs /usr/bin/python3 with matplotlib")
+        .key("--plot")
+        .value(png)
+        .expected("python3 -c 'import matplotlib' to work")
+        .fix("apt-get install python3-matplotlib, or drop --plot and plot the CSV yourself");
+}
+
+/// One-point dispersion (--direction, --path, --grid without --cell) linearises one atom with
+/// its family as the whole cell: right for a Bravais lattice only. A crystal with a basis gets
+/// 3 of its 3n branches (no optical branches; acoustic ones of atoms moving without their basis
+/// partners): a warning, or — when --path would guess the lattice from the neighbour shell (hcp
+/// looks like fcc) — a refusal. Runs before the model is linearised (seconds for big families).
+void check_bravais(const pdcg::body::Body& body, const Options& o, const char* mode) {
+  if (o.cell) return;  // every atom of the box is a basis atom: any crystal
+  const auto lat = pdcg::body::detect_lattice(body);
+  if (lat.bravais()) return;
+  if (!lat.perfect) {
+    pdcg::log::info(
+        "{}: the dispersion is that of one point and its family as if it were a Bravais "
+        "lattice site",
+        lat.summary);
+    return;
+  }
+  const std::string what = fmt::format(
+      "{} — one-point dispersion gives 3 branches: the {} optical branches are missing and the "
+      "acoustic ones are those of atoms that move without their basis partners",
+      lat.summary, 3 * (lat.basis - 1));
+  const std::string fix =
+      "run with --cell on a periodic body of one primitive (or conventional) cell: all 3n "
+      "branches of its n atoms (folded into the cell's zone)";
+  if (std::string(mode) == "--path" && (o.lattice.empty() || !(o.a > 0)))
+    throw pdcg::InputError("cannot tell the Bravais lattice: the crystal has a basis")
+        .source(o.body)
+        .key("--path")
+        .value(what)
+        .expected("a Bravais lattice (one atom per primitive cell) for the neighbour-shell guess")
+        .fix(fix + "; or pass --lattice and --a for the one-point curves anyway");
+  pdcg::log::warn("{}: {}. Fix: {}", mode, what, fix);
+}
+
 int run_grid(const Options& o) {
   if (!o.plot.empty() || !o.compare.empty())
     throw pdcg::InputError("--grid writes the whole κ-grid; it has no curve to plot or compare")
@@ -231,13 +294,14 @@ int run_grid(const Options& o) {
         .expected("--grid without --plot and --compare")
         .fix("use --direction or --path for curves");
   const pdcg::body::Body body = pdcg::body::read_body(o.body);
+  check_bravais(body, o, "--grid");
   const pdcg::dispersion::BodyDispersion model(
       body,
       o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt,
       o.cell);
   const auto g = model.grid();
   pdcg::io::AtomicTextFile csv(o.output);
-  csv.stream() << "kappa,omega_1,omega_2,omega_3,kx,ky,kz\n";
+  csv.stream() << units_line(body) << "kappa,omega_1,omega_2,omega_3,kx,ky,kz\n";
   double wmin = 0.0;
   for (std::size_t i = 0; i < g.kappa.size(); ++i) {
     const auto& k = g.kappa[i];
@@ -270,27 +334,28 @@ int run_model(const Options& o) {
         .expected("--direction 1,0,0, --path G-X-L or --grid");
   if (o.nk < 1)
     throw pdcg::InputError("--nk must be at least 1").key("--nk").value(std::to_string(o.nk));
+  check_plot_target(o.plot);
   const pdcg::body::Body body = pdcg::body::read_body(o.body);
-  const pdcg::dispersion::BodyDispersion model(
-      body,
-      o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt,
-      o.cell);
+  const std::optional<std::size_t> point =
+      o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt;
+  // lattice checks first: they take well under a second, the linearisation may take long
+  check_bravais(body, o, o.path.empty() ? "--direction" : "--path");
+  const std::size_t rep = o.cell ? 0 : pdcg::dispersion::representative_atom(body, point);
   std::string lattice = o.lattice;
   double a = o.a;
-  auto need_lattice = [&] {
+  std::vector<std::pair<double, Eigen::Vector3d>> ks;
+  if (!o.path.empty()) {
     if (lattice.empty() || !(a > 0)) {
-      const auto g = pdcg::dispersion::detect_lattice(body, model.representative_atom());
+      const auto g = pdcg::dispersion::detect_lattice(body, rep);
       if (lattice.empty()) lattice = g.lattice;
       if (!(a > 0)) a = g.a;
       pdcg::log::info("lattice {} with a = {:.6g} (nearest neighbours: {} at {:.6g})", lattice, a,
                       g.coordination, g.nearest);
     }
-  };
-  std::vector<std::pair<double, Eigen::Vector3d>> ks;
-  if (!o.path.empty()) {
-    need_lattice();
     ks = pdcg::dispersion::path(lattice, a, o.path, o.nk);
-  } else {
+  }
+  const pdcg::dispersion::BodyDispersion model(body, point, o.cell);
+  if (o.path.empty()) {
     const Eigen::Vector3d dir = parse_vector(o.direction, "--direction").normalized();
     double kmax = o.kmax;
     if (!(kmax > 0)) {
@@ -298,15 +363,25 @@ int run_model(const Options& o) {
       // nearest-neighbour bonds (chain: π/h; fcc [100]: 2π/a; fcc [111]: √3π/a)
       const auto& f = body.families;
       const std::size_t k = model.representative_atom();
-      const auto g = pdcg::dispersion::detect_lattice(body, k);
+      double nearest = std::numeric_limits<double>::infinity();
+      for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i)
+        nearest = std::min(
+            nearest,
+            pdcg::atomistic::bond_vector(f, body.x, k, static_cast<std::size_t>(i)).norm());
       double proj = std::numeric_limits<double>::infinity();
       for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i) {
         const Eigen::Vector3d xi =
             pdcg::atomistic::bond_vector(f, body.x, k, static_cast<std::size_t>(i));
-        if (xi.norm() > 1.01 * g.nearest) continue;
+        if (xi.norm() > 1.01 * nearest) continue;
         const double p = std::abs(xi.dot(dir));
-        if (p > 1e-9 * g.nearest) proj = std::min(proj, p);
+        if (p > 1e-9 * nearest) proj = std::min(proj, p);
       }
+      if (!std::isfinite(proj))
+        throw pdcg::InputError("no nearest-neighbour bond has a component along the direction")
+            .key("--direction")
+            .value(o.direction)
+            .expected("a direction with a zone edge from the nearest-neighbour shell")
+            .fix("pass --kmax");
       kmax = std::numbers::pi / proj;
     }
     for (int i = 0; i <= o.nk; ++i) {
@@ -319,7 +394,7 @@ int run_model(const Options& o) {
   pdcg::io::AtomicTextFile csv(o.output);
   const auto first = model.omega(ks[0].second);
   const auto nb = static_cast<std::size_t>(first.size());
-  csv.stream() << "kappa";
+  csv.stream() << units_line(body) << "kappa";
   for (std::size_t b = 0; b < nb; ++b) csv.stream() << ",omega_" << b + 1;
   csv.stream() << ",kx,ky,kz";
   for (std::size_t j = 0; j < ref.omega.size(); ++j)

@@ -4,6 +4,7 @@
 /// Voigt/Reuss bulk and shear moduli, optionally a neo-Hookean fit and critical stretches.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include "command.hpp"
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/core/units.hpp"
 
 namespace {
 
@@ -34,6 +36,7 @@ std::string matrix_json(const Eigen::MatrixXd& m) {
 
 int run(const Options& o) {
   using namespace pdcg;
+  using namespace pdcg::body;
   const auto v = cli::body_util::numbers(o.F, 9, "--F");
   Eigen::Matrix3d F;
   for (int r = 0; r < 3; ++r)
@@ -72,16 +75,37 @@ int run(const Options& o) {
     peak = body::uniaxial_peak_stretch(cb, Eigen::Vector3d(1, 0, 0));
   }
   const std::string u = std::string(to_string(b.units));
+  const UnitNames names = unit_names(b.units);
+  const std::string unit = std::string(names.energy_density);
+  // energy/volume -> GPa through LAMMPS's nktv2p and the pressure unit (metal: bar = 1e-4 GPa,
+  // real: atm = 1.01325e-4 GPa); NaN for reduced (lj) and none units
+  const double gpa = energy_density_to_gpa(b.units);
+  const bool has_gpa = std::isfinite(gpa);
+  const LatticeInfo& lat = cb.lattice();
+  const LatticeNote note = cauchy_born_lattice_note(lat);
   if (o.json) {
     std::string out = fmt::format(
-        "{{\"body\": \"{}\", \"kind\": \"{}\", \"dimension\": {}, \"units\": \"{}\", \"F\": {}, "
+        "{{\"body\": \"{}\", \"kind\": \"{}\", \"dimension\": {}, \"units\": \"{}\", "
+        "\"unit\": \"{}\", \"F\": {}, "
         "\"energy_density\": {:.17g}, \"P\": {}, \"S\": {}, \"C_voigt\": {}, \"voigt_order\": "
         "[\"11\", \"22\", \"33\", \"23\", \"13\", \"12\"], \"bulk_voigt\": {:.17g}, "
         "\"shear_voigt\": "
         "{:.17g}, \"bulk_reuss\": {:.17g}, \"shear_reuss\": {:.17g}",
-        o.body, to_string(b.kind), b.dimension, u, matrix_json(F), st.W, matrix_json(st.P),
+        o.body, to_string(b.kind), b.dimension, u, unit, matrix_json(F), st.W, matrix_json(st.P),
         matrix_json(S), matrix_json(C), mod.bulk_voigt, mod.shear_voigt, mod.bulk_reuss,
         mod.shear_reuss);
+    if (has_gpa)
+      out.append(fmt::format(
+          ", \"to_GPa\": {:.17g}, \"GPa\": {{\"S\": {}, \"C_voigt\": {}, \"bulk_voigt\": {:.17g}, "
+          "\"shear_voigt\": {:.17g}, \"bulk_reuss\": {:.17g}, \"shear_reuss\": {:.17g}}}",
+          gpa, matrix_json(S * gpa), matrix_json(C * gpa), mod.bulk_voigt * gpa,
+          mod.shear_voigt * gpa, mod.bulk_reuss * gpa, mod.shear_reuss * gpa));
+    else
+      out.append(", \"to_GPa\": null, \"GPa\": null");
+    out.append(
+        fmt::format(", \"lattice\": {{\"perfect\": {}, \"basis\": {}, \"centrosymmetric\": {}, "
+                    "\"clamped_ion\": {}, \"summary\": \"{}\"}}",
+                    lat.perfect, lat.basis, lat.centrosymmetric, !note.text.empty(), lat.summary));
     if (fit)
       out.append(fmt::format(
           ", \"neo_hookean\": {{\"mu\": {:.17g}, \"bulk\": {:.17g}, \"rms_error\": {:.17g}, "
@@ -95,25 +119,53 @@ int run(const Options& o) {
     std::fputs(out.c_str(), stdout);
     return 0;
   }
+  // with GPa: a second column block in GPa; lj: say the values are reduced
+  auto in_gpa = [&](double v) { return has_gpa ? fmt::format(" ({:.6g} GPa)", v * gpa) : ""; };
   std::printf("%s: %s body, dimension %d, units %s\n", o.body.c_str(),
               std::string(to_string(b.kind)).c_str(), b.dimension, u.c_str());
-  std::printf("W(F) = %.10g (energy/volume)\n", st.W);
-  std::printf("second Piola–Kirchhoff stress S = F⁻¹P:\n");
+  std::printf("lattice: %s\n", lat.summary.c_str());
+  if (!note.text.empty())
+    std::printf("%s: %s\n", note.warning ? "warning" : "note", note.text.c_str());
+  if (has_gpa)
+    std::printf(
+        "stresses and constants in %s (1 %s = %.8g GPa: LAMMPS nktv2p %.8g %s per %s × %.6g "
+        "GPa/%s)\n",
+        unit.c_str(), unit.c_str(), gpa, unit_constants(b.units).nktv2p,
+        std::string(names.pressure).c_str(), unit.c_str(), unit_constants(b.units).pressure_to_gpa,
+        std::string(names.pressure).c_str());
+  else
+    std::printf("stresses and constants in %s: %s units have no GPa value\n", unit.c_str(),
+                u.c_str());
+  std::printf("W(F) = %.10g %s (energy/volume)\n", st.W, unit.c_str());
+  std::printf("second Piola–Kirchhoff stress S = F⁻¹P [%s]:\n", unit.c_str());
   for (int r = 0; r < 3; ++r) std::printf("  %14.7g %14.7g %14.7g\n", S(r, 0), S(r, 1), S(r, 2));
-  std::printf("C_IJ = ∂²W/∂E_I∂E_J (Voigt 11 22 33 23 13 12; energy/volume):\n");
+  std::printf("C_IJ = ∂²W/∂E_I∂E_J (Voigt 11 22 33 23 13 12) [%s]:\n", unit.c_str());
   for (int r = 0; r < 6; ++r) {
     std::printf(" ");
     for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c));
     std::printf("\n");
   }
-  std::printf("%sbulk modulus: Voigt %.6g, Reuss %.6g; shear modulus: Voigt %.6g, Reuss %.6g\n",
-              b.dimension == 2 ? "2D (in-plane) " : "", mod.bulk_voigt, mod.bulk_reuss,
-              mod.shear_voigt, mod.shear_reuss);
+  if (has_gpa) {
+    std::printf("C_IJ [GPa]:\n");
+    for (int r = 0; r < 6; ++r) {
+      std::printf(" ");
+      for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c) * gpa);
+      std::printf("\n");
+    }
+  }
+  std::printf(
+      "%sbulk modulus [%s]: Voigt %.6g%s, Reuss %.6g%s; shear modulus: Voigt %.6g%s, "
+      "Reuss %.6g%s\n",
+      b.dimension == 2 ? "2D (in-plane) " : "", unit.c_str(), mod.bulk_voigt,
+      in_gpa(mod.bulk_voigt).c_str(), mod.bulk_reuss, in_gpa(mod.bulk_reuss).c_str(),
+      mod.shear_voigt, in_gpa(mod.shear_voigt).c_str(), mod.shear_reuss,
+      in_gpa(mod.shear_reuss).c_str());
   if (fit)
     std::printf(
-        "neo-Hookean fit (%d deformations, stretch ≤ %g): μ = %.6g, K = %.6g, RMS error %.3g "
-        "(%.2f%% of RMS W)\n",
-        fit->samples, o.fit, fit->mu, fit->bulk, fit->rms_error, 100 * fit->relative_error);
+        "neo-Hookean fit (%d deformations, stretch ≤ %g): μ = %.6g%s, K = %.6g%s [%s], RMS error "
+        "%.3g (%.2f%% of RMS W)\n",
+        fit->samples, o.fit, fit->mu, in_gpa(fit->mu).c_str(), fit->bulk, in_gpa(fit->bulk).c_str(),
+        unit.c_str(), fit->rms_error, 100 * fit->relative_error);
   if (o.critical) {
     if (infl > 0) std::printf("bond inflection stretch (types 1-1) r_infl/r0 = %.6f\n", infl);
     if (peak > 0)

@@ -7,6 +7,7 @@
 #include "body_cli_util.hpp"
 #include "command.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/core/units.hpp"
 
 namespace {
 
@@ -31,12 +32,22 @@ int run(const Options& o) {
   body::Evaluator ev(b);
   const body::Evaluation e = ev.homogeneous(F);
   const double vol = b.reference_volume();
+  const UnitNames un = unit_names(b.units);
+  const std::string unit = std::string(to_string(b.units));
+  // the volume's unit: length^d of the body's dimension (area for 2D, length for 1D)
+  const std::string len = std::string(un.length);
+  const std::string vol_unit = b.dimension == 1 ? len : fmt::format("{}^{}", len, b.dimension);
+  const std::string dens_unit = fmt::format("{}/{}", un.energy, vol_unit);
   if (o.json)
-    std::printf("{\"energy\": %.17g, \"energy_density\": %.17g, \"volume\": %.17g}\n", e.energy,
-                e.energy / vol, vol);
+    std::printf(
+        "{\"energy\": %.17g, \"energy_density\": %.17g, \"volume\": %.17g, \"units\": \"%s\", "
+        "\"energy_unit\": \"%s\", \"energy_density_unit\": \"%s\", \"volume_unit\": \"%s\"}\n",
+        e.energy, e.energy / vol, vol, unit.c_str(), std::string(un.energy).c_str(),
+        dens_unit.c_str(), vol_unit.c_str());
   else
-    std::printf("energy %.17g\nenergy_density %.17g\nvolume %.17g\n", e.energy, e.energy / vol,
-                vol);
+    std::printf("energy %.17g %s\nenergy_density %.17g %s\nvolume %.17g %s\nunits %s\n", e.energy,
+                std::string(un.energy).c_str(), e.energy / vol, dens_unit.c_str(), vol,
+                vol_unit.c_str(), unit.c_str());
   return 0;
 }
 
@@ -46,7 +57,7 @@ pdcg::cli::Registration reg(115, [](CLI::App& app) -> pdcg::cli::Runner {
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
   sub->add_option("--F", o->F, "Deformation gradient, 9 numbers row-major")->required();
-  sub->add_flag("--json", o->json, "JSON output: energy, energy_density, volume");
+  sub->add_flag("--json", o->json, "JSON output: energy, energy_density, volume and their units");
   sub->footer("Example:\n  pdcg energy body.h5 --F \"1.01 0 0 0 1 0 0 0 1\" --json");
   return [o] { return run(*o); };
 });

@@ -50,6 +50,45 @@ LatticeGuess detect_lattice(const body::Body& b, std::size_t k) {
   return g;
 }
 
+namespace {
+
+std::size_t nearest_centre(const body::Body& b, const std::vector<double>& pts) {
+  const Eigen::Vector3d c = 0.5 * (b.box.lo + b.box.hi);
+  std::size_t best = 0;
+  double d2 = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < pts.size() / 3; ++i) {
+    const double dd =
+        (Eigen::Vector3d(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]) - c).squaredNorm();
+    if (dd < d2) {
+      d2 = dd;
+      best = i;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::size_t representative_atom(const body::Body& b, std::optional<std::size_t> point) {
+  if (b.homogenisation) {
+    const auto& h = *b.homogenisation;
+    const std::size_t p = point ? *point : nearest_centre(b, h.points);
+    if (p >= h.size() || h.offset[p] == h.offset[p + 1])
+      throw InputError("point index out of range or point without atoms")
+          .key("--point")
+          .value(std::to_string(p))
+          .expected(fmt::format("0 … {}", h.size() - 1));
+    return static_cast<std::size_t>(h.atom[static_cast<std::size_t>(h.offset[p])]);
+  }
+  const std::size_t k = point ? *point : nearest_centre(b, b.x);
+  if (k >= b.size())
+    throw InputError("point index out of range")
+        .key("--point")
+        .value(std::to_string(k))
+        .expected(fmt::format("0 … {}", b.size() - 1));
+  return k;
+}
+
 BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> point, bool cell)
     : body_(b), cell_(cell) {
   if (b.statistics)
@@ -60,20 +99,6 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
         .fix("compute the dispersion of the delta body built from the mean positions");
   if (!b.potential) throw InputError("the body has no potential to linearise").key("potential");
   const std::size_t n = b.size();
-  auto nearest_centre = [&](const std::vector<double>& pts) {
-    const Eigen::Vector3d c = 0.5 * (b.box.lo + b.box.hi);
-    std::size_t best = 0;
-    double d2 = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < pts.size() / 3; ++i) {
-      const double dd =
-          (Eigen::Vector3d(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]) - c).squaredNorm();
-      if (dd < d2) {
-        d2 = dd;
-        best = i;
-      }
-    }
-    return best;
-  };
   std::vector<std::int32_t> atoms;
   if (cell) {
     if (!b.periodic())
@@ -83,7 +108,7 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
     description_ = fmt::format("periodic cell of {} atoms (3N = {} branches)", n, 3 * n);
   } else if (b.homogenisation) {
     const auto& h = *b.homogenisation;
-    const std::size_t p = point ? *point : nearest_centre(h.points);
+    const std::size_t p = point ? *point : nearest_centre(b, h.points);
     if (p >= h.size())
       throw InputError("point index out of range")
           .key("--point")
@@ -102,7 +127,7 @@ BodyDispersion::BodyDispersion(const body::Body& b, std::optional<std::size_t> p
     description_ =
         fmt::format("homogenised point {} ({} atoms, kernel {})", p, site_.size(), h.kernel);
   } else {
-    const std::size_t k = point ? *point : nearest_centre(b.x);
+    const std::size_t k = point ? *point : nearest_centre(b, b.x);
     if (k >= n)
       throw InputError("point index out of range")
           .key("--point")

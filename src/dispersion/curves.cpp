@@ -16,7 +16,10 @@ Curves read_curves(const std::string& path, const std::string& option) {
     throw InputError("cannot open curve file").key(option).value(path).expected("a readable CSV file");
   std::string line;
   long lineno = 1;
-  if (!std::getline(in, line)) throw InputError("empty curve file").source(path).key(option);
+  // leading `#` lines (pdcg's units line, docs/formats.md) are comments
+  bool got = false;
+  while ((got = static_cast<bool>(std::getline(in, line))) && line.rfind('#', 0) == 0) ++lineno;
+  if (!got) throw InputError("empty curve file").source(path).key(option);
   std::vector<std::string> header;
   std::stringstream hs(line);
   for (std::string h; std::getline(hs, h, ',');) header.emplace_back(trim(h));
@@ -29,7 +32,7 @@ Curves read_curves(const std::string& path, const std::string& option) {
   if (kcol < 0 || wcols.empty())
     throw InputError("curve file lacks the columns it needs")
         .source(path)
-        .line(1)
+        .line(lineno)
         .value(line)
         .expected("a header with `kappa` and at least one `omega…` column")
         .fix("use a CSV written by `pdcg dispersion`, or write one with those headers");

@@ -23,7 +23,7 @@ PY
   "$pdcg" -q dispersion --trajectory chain.dump --dt 0.01 -o measured.csv --compare closed.csv --spectrum S.png
   if /usr/bin/python3 - <<'PY'
 import csv, sys
-rows = list(csv.DictReader(open("measured.csv")))
+rows = list(csv.DictReader(l for l in open("measured.csv") if not l.startswith("#")))
 assert len(rows) == 16, len(rows)
 worst = max(abs(float(r["error_in_bins"])) for r in rows)
 print(f"   worst |error| = {worst:.3f} bins")
@@ -93,7 +93,7 @@ EOF2
 "$pdcg" -q dispersion chain.h5 --grid -o grid.csv >/dev/null
 if /usr/bin/python3 - <<'PY'
 import csv, math
-rows = list(csv.DictReader(open("grid.csv")))
+rows = list(csv.DictReader(l for l in open("grid.csv") if not l.startswith("#")))
 assert len(rows) == 32, len(rows)
 ks = sorted(float(r["kx"]) for r in rows)
 assert all(abs(k - 2 * math.pi * m / 32) < 1e-12 for k, m in zip(ks, range(-16, 16))), ks
@@ -113,7 +113,7 @@ for i in range(17):
 out=$("$pdcg" dispersion chain.h5 --direction 1,0,0 --nk 16 -o cmp.csv --compare closed16.csv 2>&1)
 if grep -q "worst error against closed16.csv" <<<"$out" && /usr/bin/python3 - <<'PY'
 import csv
-rows = list(csv.DictReader(open("cmp.csv")))
+rows = list(csv.DictReader(l for l in open("cmp.csv") if not l.startswith("#")))
 assert len(rows) == 17 and "error_1" in rows[0] and "omega_ref_1" in rows[0], rows[0].keys()
 worst = max(abs(float(r["error_1"])) for r in rows)
 print(f"   --compare: worst error column {worst:.2e}")
@@ -139,7 +139,7 @@ sed 's/^bond_coeff 1 0.5 1.0/bond_coeff 1 0.5 1.1/' potential.chain > compressed
 out=$("$pdcg" dispersion compressed.h5 --direction 1,0,0 --nk 8 -o unstable.csv 2>&1)
 if grep -q "warning: unstable modes" <<<"$out" && /usr/bin/python3 - <<'PY'
 import csv, math
-rows = list(csv.DictReader(open("unstable.csv")))
+rows = list(csv.DictReader(l for l in open("unstable.csv") if not l.startswith("#")))
 w1 = [float(r["omega_1"]) for r in rows]
 assert all(math.isfinite(float(v)) for r in rows for k, v in r.items())
 k = float(rows[-1]["kappa"])

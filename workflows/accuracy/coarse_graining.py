@@ -231,7 +231,7 @@ def model_omega(body):
     """Largest branch at κ₀ from `pdcg dispersion` (rows κ = 0 and κ₀)."""
     csv = body.replace(".h5", "_disp.csv")
     pdcg("dispersion", body, "--direction", "1,0,0", "--kmax", f"{K0:.17g}", "--nk", "1", "-o", csv)
-    rows = np.genfromtxt(csv, delimiter=",", names=True)
+    rows = np.genfromtxt([l for l in open(csv) if not l.startswith("#")], delimiter=",", names=True)  # `#`: units line
     row = rows[np.argmin(abs(rows["kappa"] - K0))]
     assert abs(row["kappa"] - K0) <= 1e-12 * K0, row
     return max(row["omega_1"], row["omega_2"], row["omega_3"])

@@ -28,7 +28,7 @@ KERNELS = ["top-hat", "gaussian", "cubic-bspline", "wendland-c2"]
 
 def read(path):
     with open(path) as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(l for l in f if not l.startswith("#")))  # `#`: units line
     return {c: [float(r[c]) for r in rows] for c in rows[0]}
 
 

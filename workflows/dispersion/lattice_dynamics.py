@@ -55,7 +55,7 @@ def main(argv):
     data, potential, kcsv, out = argv[:4]
     step = float(argv[4]) if len(argv) > 4 else 1e-4
     phi, r, mass = force_constants(data, potential, step)
-    rows = list(csv.DictReader(open(kcsv)))
+    rows = list(csv.DictReader(l for l in open(kcsv) if not l.startswith("#")))  # `#`: units line
     with open(out, "w") as f:
         f.write("kappa,omega_1,omega_2,omega_3\n")
         for row in rows:

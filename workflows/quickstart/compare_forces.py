@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Compare pdcg forces (CSV id,fx,fy,fz) with the forces in a LAMMPS dump (fx fy fz columns)."""
+"""Compare pdcg forces (CSV id,fx,fy,fz,pe after a `#` units line) with the forces in a LAMMPS dump (fx fy fz columns)."""
 import csv
 import json
 import sys
 
-pd = {int(r["id"]): (float(r["fx"]), float(r["fy"]), float(r["fz"])) for r in csv.DictReader(open(sys.argv[1]))}
+pd = {int(r["id"]): (float(r["fx"]), float(r["fy"]), float(r["fz"])) for r in csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#"))}  # `#`: units line
 lines = open(sys.argv[2]).read().splitlines()
 # frame: optional third argument, 0-based, negative from the end (default 0)
 frame = int(sys.argv[3]) if len(sys.argv) > 3 else 0

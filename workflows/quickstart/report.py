@@ -15,7 +15,7 @@ e = {k: json.load(open(f"energy_{k}.json")) for k in ("delta", "hom", "res")}
 
 
 def curves(path):
-    rows = list(csv.DictReader(open(path)))
+    rows = list(csv.DictReader(l for l in open(path) if not l.startswith("#")))  # `#`: units line
     return [(float(r["kappa"]), max(float(v) for c, v in r.items() if c.startswith("omega_"))) for r in rows]
 
 
@@ -40,7 +40,7 @@ def sheet_section(summary):
     # dispersion: in-plane branches (omega_2 = transverse, omega_3 = longitudinal; omega_1 is the
     # out-of-plane mode, zero for an in-plane 2D body)
     def disp(path):
-        rows = list(csv.DictReader(open(path)))
+        rows = list(csv.DictReader(l for l in open(path) if not l.startswith("#")))  # `#`: units
         return np.array([[float(r["kappa"]), float(r["omega_2"]), float(r["omega_3"])] for r in rows])
 
     D = {k: disp(f"sheet/dispersion_{k}.csv") for k in ("atoms", "eps2", "eps4", "res")}

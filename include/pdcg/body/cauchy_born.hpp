@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "pdcg/body/body.hpp"
+#include "pdcg/body/lattice.hpp"
 
 namespace pdcg::body {
 
@@ -70,6 +71,10 @@ class CauchyBorn {
   /// Number of distinct atomic environments (atoms whose families coincide — same type and
   /// the same bonds ξ to 1e-10·max|ξ|, partner types, special factors — are evaluated once).
   std::size_t environments() const { return classes_; }
+  /// The body's lattice (detect_lattice), checked at construction: a crystal with a basis
+  /// whose sites are not centres of inversion gets a warning (clamped-ion values), any other
+  /// body that is not a perfect Bravais lattice an info line (cauchy_born_lattice_note).
+  const LatticeInfo& lattice() const { return lattice_; }
 
  private:
   /// Per-atom ψ_k, Σ_b t_b⊗ξ_b (9 per atom), Σ_bc K_bc ξ_b ξ_c (81 per atom, if tangent).
@@ -83,6 +88,7 @@ class CauchyBorn {
   std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class
   std::vector<std::int32_t> multiplicity_;
   std::size_t classes_ = 0;
+  LatticeInfo lattice_;
   std::vector<std::int32_t> reps_;  ///< one atom per class
   std::vector<double> rep_weight_;  ///< Σ_{k ∈ class} w_k (w_k = Σ_p w_kp, or 1)
   std::int64_t nmax_ = 0;           ///< largest family
@@ -141,5 +147,17 @@ double pair_inflection_stretch(const atomistic::Potential& potential, int type_i
 /// refined by bisection on the tangent. Returns 0 if no peak in range.
 double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direction,
                              double max_stretch = 1.6, int steps = 60);
+
+/// What the clamped-ion Cauchy–Born assumption (every atom follows F, no inner relaxation)
+/// means for a body of this lattice: empty when it is exact (a perfect Bravais lattice, or a
+/// perfect crystal whose every atom is a centre of inversion: B2, L1₂, NaCl); otherwise one
+/// message naming the lattice, that W, P and C are the clamped-ion (unrelaxed) values, and what
+/// to do. `warning` is set when the values are those of a crystal with a basis that would relax
+/// (diamond, hcp, honeycomb …); unset for defects/surfaces (the body's own clamped average).
+struct LatticeNote {
+  std::string text;
+  bool warning = false;
+};
+LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice);
 
 }  // namespace pdcg::body

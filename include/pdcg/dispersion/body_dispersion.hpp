@@ -27,6 +27,10 @@ struct LatticeGuess {
 };
 LatticeGuess detect_lattice(const body::Body& body, std::size_t atom);
 
+/// The atom BodyDispersion(body, point, false).representative_atom() will use, without
+/// linearising anything (cheap: for checks before the model is built).
+std::size_t representative_atom(const body::Body& body, std::optional<std::size_t> point);
+
 class BodyDispersion {
  public:
   /// point: atom index (delta/rescaled) or homogenised point index; nullopt = the point nearest

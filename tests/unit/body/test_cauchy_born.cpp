@@ -16,6 +16,7 @@
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/cauchy_born_material.hpp"
+#include "pdcg/body/statistics.hpp"
 #include "pdcg/coarsen/homogenise.hpp"
 #include "pdcg/coarsen/kernels.hpp"
 #include "pdcg/coarsen/rescale.hpp"
@@ -319,4 +320,52 @@ TEST(CauchyBorn, SolverMaterialAdapterAndEnvironmentClasses) {
   double psi2;
   ASSERT_TRUE(copy->evaluate(F, &psi2, nullptr, nullptr));
   EXPECT_EQ(psi2, psi);
+}
+
+// The refusal for statistical bodies names the option that makes a body statistical
+// (`pdcg atoms2pd --density statistical`; `--statistics` only chooses the form of the density).
+TEST(CauchyBorn, StatisticalRefusalNamesTheRealOption) {
+  Model m =
+      model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 2, 1.5599);
+  Statistics s;
+  s.covariance.assign(6 * m.body.size(), 0.0);
+  for (std::size_t k = 0; k < m.body.size(); ++k)
+    s.set_covariance(k, 1e-4 * Eigen::Matrix3d::Identity());
+  make_statistical(m.body, std::move(s));
+  try {
+    const CauchyBorn cb(m.body);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("without `--density statistical`"), std::string::npos) << what;
+    EXPECT_EQ(what.find("--statistics`"), std::string::npos) << what;
+  }
+}
+
+// Clamped-ion note: none for a perfect Bravais lattice; a warning for a crystal with a basis
+// whose sites are not inversion centres; an info note for a crystal that is not perfect.
+TEST(CauchyBorn, LatticeNote) {
+  const Model m =
+      model("units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", 3, 1.5599);
+  const CauchyBorn cb(m.body);
+  EXPECT_TRUE(cb.lattice().bravais());
+  EXPECT_TRUE(cauchy_born_lattice_note(cb.lattice()).text.empty());
+  LatticeInfo basis;
+  basis.perfect = true;
+  basis.basis = 2;
+  basis.summary = "perfect crystal with a basis of 2 atoms per primitive cell";
+  const auto w = cauchy_born_lattice_note(basis);
+  EXPECT_TRUE(w.warning);
+  EXPECT_NE(w.text.find("clamped-ion"), std::string::npos);
+  basis.centrosymmetric = true;  // B2, NaCl, L1₂: clamped-ion CB is exact
+  EXPECT_TRUE(cauchy_born_lattice_note(basis).text.empty());
+  Atoms pert = m.atoms;
+  pert.x[0] += 1e-3;
+  const Body bp =
+      make_delta_body(pert, m.pot, m.spec, {.dimension = 3, .cutoff = 0.0, .source = "p"});
+  const CauchyBorn cbp(bp);
+  EXPECT_FALSE(cbp.lattice().perfect);
+  const auto n = cauchy_born_lattice_note(cbp.lattice());
+  EXPECT_FALSE(n.warning);
+  EXPECT_NE(n.text.find("not a perfect crystal"), std::string::npos) << n.text;
 }

@@ -74,7 +74,9 @@ std::map<long, std::array<double, 3>> read_csv(const fs::path& p) {
   std::ifstream in(p);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "id,fx,fy,fz");
+  EXPECT_EQ(line.rfind("# pdcg forces: units ", 0), 0u) << line;  // units line first
+  std::getline(in, line);
+  EXPECT_EQ(line, "id,fx,fy,fz,pe");
   std::map<long, std::array<double, 3>> m;
   while (std::getline(in, line)) {
     for (auto& c : line)

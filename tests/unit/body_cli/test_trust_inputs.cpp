@@ -165,7 +165,8 @@ std::map<long, std::array<double, 4>> read_dump(const fs::path& p) {
 std::map<long, std::array<double, 3>> read_csv(const fs::path& p) {
   std::ifstream in(p);
   std::string line;
-  std::getline(in, line);
+  while (std::getline(in, line) && line.rfind('#', 0) == 0) {
+  }  // `#` units line, then the header
   std::map<long, std::array<double, 3>> m;
   while (std::getline(in, line)) {
     for (auto& ch : line)
