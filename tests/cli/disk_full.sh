@@ -63,7 +63,8 @@ for n in sorted(os.listdir(d)):
             bad.append(f"{n}: unreadable: {e}")
     elif n.endswith(".csv"):
         t = open(p).read()
-        lines = t.split("\n")
+        # '#' lines (the units line) are comments; every other line has the header's columns
+        lines = [l for l in t.split("\n") if not l.startswith("#")]
         if not t.endswith("\n") or any(l.count(",") != lines[0].count(",") for l in lines[:-1]):
             bad.append(f"{n}: incomplete")
         ncsv += 1
