@@ -8,6 +8,7 @@
 #include <string>
 
 #include "pdcg/atomistic/dump_reader.hpp"
+#include "pdcg/atomistic/eam_spline.hpp"
 #include "scratch_dir.hpp"
 
 using namespace pdcg;
@@ -42,4 +43,22 @@ TEST(FuzzRegression, GzipDumpFirstAccessPointWithEmptyTail) {
   EXPECT_EQ(a.id[0], 1);
   EXPECT_EQ(a.x[0], 0.25);
   EXPECT_EQ(a.x[5], 3.5);
+}
+
+// fuzz_eam: an EAM file whose densities are large and negative gave ρ̄ = −1.48e13, and the
+// embedding lookup converted ρ̄/dρ + 1 to int (undefined outside the int range; UBSan:
+// "outside the range of representable values of type 'int'"). LAMMPS's PairEAM clamps the
+// row to [1, nrho−1]: row 1 here, whose cubic in p = ρ̄/dρ + 1 − 1 is evaluated as written.
+TEST(FuzzRegression, EamEmbeddingOfHugeNegativeDensityUsesRowOne) {
+  // rows 0..2, 7 coefficients each; row 1: F′ = 1 (c2), F = 2p + 3 (c5, c6); rows 0 and 2
+  // are poison so that a wrong row shows
+  const double table[21] = {9, 9, 9, 9, 9, 9, 9,  //
+                            0, 0, 1, 0, 0, 2, 3,  //
+                            7, 7, 7, 7, 7, 7, 7};
+  const double rho = -1.48e13;
+  const auto e = atomistic::eam::embedding(table, rho, 1.0, 3, 10.0);
+  const double p = rho;  // ρ̄·1 + 1 − 1: exact, |ρ̄| < 2^53
+  EXPECT_EQ(e.value, 2.0 * p + 3.0);
+  EXPECT_EQ(e.first, 1.0);
+  EXPECT_EQ(e.second, 0.0);
 }
