@@ -2,8 +2,12 @@
 # Installs what is missing (Debian, as root), builds, and runs every test.
 # Exit code 0 only when all tests pass. Extra arguments go to ctest
 # (e.g. ./tests/run.sh -L core, ./tests/run.sh -LE slow).
+# Without arguments (the full run, as CI calls it) the sanitizer and fuzzing checks follow
+# the tests: tests/sanitize.sh (ASan + UBSan build of the suite) and tests/fuzz/run.sh
+# (short libFuzzer runs of every reader); PDCG_CHECKS=0 skips them (docs/testing.md).
 set -euo pipefail
 source "$(dirname "$0")/../workflows/lib/setup.sh"
+[ $# = 0 ] && [ "${PDCG_CHECKS:-1}" != 0 ] && export PDCG_CHECKS=1
 pdcg_install_dependencies
 pdcg_build
 cd "$PDCG_BUILD"
@@ -11,3 +15,7 @@ cd "$PDCG_BUILD"
 # OpenMP threads must sleep, not spin, or they steal the cores of the other test.
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-PASSIVE}
 ctest --output-on-failure -j"${PDCG_JOBS:-2}" --timeout 1200 "$@"
+if [ "${PDCG_CHECKS:-0}" = 1 ]; then
+  "$PDCG_ROOT/tests/sanitize.sh"
+  "$PDCG_ROOT/tests/fuzz/run.sh"
+fi

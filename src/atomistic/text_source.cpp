@@ -181,8 +181,9 @@ class GzipSource final : public ByteSource {
     const std::size_t from_dst = std::min(produced, kWindow);
     std::memcpy(p.window.data() + kWindow - from_dst, dst + produced - from_dst, from_dst);
     const std::size_t from_tail = std::min(kWindow - from_dst, tail_.size());
-    std::memcpy(p.window.data() + kWindow - from_dst - from_tail,
-                tail_.data() + tail_.size() - from_tail, from_tail);
+    if (from_tail > 0)  // an empty tail has data() == nullptr: memcpy from it is undefined
+      std::memcpy(p.window.data() + kWindow - from_dst - from_tail,
+                  tail_.data() + tail_.size() - from_tail, from_tail);
     points_.push_back(std::move(p));
     next_point_ = out_ + kSpan;
   }

@@ -44,6 +44,9 @@ struct Ctx {
       throw err(n, where, "expected a mapping {key: value, ...}")
           .expected(fmt::format("keys {}", fmt::join(valid, ", ")));
     for (const auto& kv : n) {
+      if (!kv.first.IsScalar())  // e.g. `{!tag: 1}` or `{[a, b]: 1}`: as<std::string> would throw
+        throw err(kv.first, where, "a key must be a plain name")
+            .expected(fmt::format("one of: {}", fmt::join(valid, ", ")));
       const std::string k = kv.first.as<std::string>();
       if (std::find(valid.begin(), valid.end(), k) == valid.end())
         throw err(kv.first, where.empty() ? k : where + "." + k, "unknown key")

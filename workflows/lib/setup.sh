@@ -19,10 +19,14 @@ PDCG_PACKAGES=(
   liblammps-dev lammps lammps-data python3-lammps
   python3 python3-numpy python3-h5py python3-matplotlib
 )
+# Extra packages of the sanitizer and fuzzing checks (tests/sanitize.sh, tests/fuzz/run.sh):
+# clang and libFuzzer. Installed only when PDCG_CHECKS=1 (those scripts set it).
+PDCG_CHECK_PACKAGES=(clang-14 libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev)
 
 pdcg_missing_packages() {
-  local missing=() p status
-  for p in "${PDCG_PACKAGES[@]}"; do
+  local missing=() p status wanted=("${PDCG_PACKAGES[@]}")
+  [ "${PDCG_CHECKS:-0}" = 1 ] && wanted+=("${PDCG_CHECK_PACKAGES[@]}")
+  for p in "${wanted[@]}"; do
     status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
     [[ "$status" == "install ok installed" ]] || missing+=("$p")
   done

@@ -4,15 +4,24 @@
 /// Each table row m holds 7 coefficients: [0..2] the derivative's quadratic, [3..6] the
 /// value's cubic in the fraction p ∈ [0, 1] of the grid cell, as LAMMPS stores them.
 #include <algorithm>
+#include <limits>
 
 namespace pdcg::atomistic::eam {
+
+/// Row index min(max((int) q, lo), hi) as LAMMPS's MAX(lo, MIN((int) q, hi)), without converting
+/// a q outside the int range (a fuzzed table, a negative or huge density) to int: that
+/// conversion is undefined behaviour. NaN gives hi.
+inline int cell(double q, int lo, int hi) {
+  if (!(q < static_cast<double>(hi))) return hi;
+  return q >= static_cast<double>(lo) ? static_cast<int>(q) : lo;
+}
 
 /// Grid cell of a radial argument x (r with rdx = 1/dr) as LAMMPS computes it: row m ≤ nmax−1
 /// and the returned fraction p ≤ 1; `clamped` when p hit its upper bound (x past the table:
 /// the second derivative is taken as 0 there).
 inline double locate(double x, double rdx, int nmax, int& m, bool& clamped) {
   double q = x * rdx + 1.0;
-  m = std::min(static_cast<int>(q), nmax - 1);
+  m = cell(q, std::numeric_limits<int>::min(), nmax - 1);
   q -= m;
   clamped = q > 1.0;
   return std::min(q, 1.0);
@@ -28,8 +37,7 @@ struct Embedding {
 /// `row0` points at the 7-coefficient rows of one embedding table (row m at row0 + 7m).
 inline Embedding embedding(const double* row0, double rho, double rdrho, int nrho, double rhomax) {
   double p = rho * rdrho + 1.0;
-  int m = static_cast<int>(p);
-  m = std::max(1, std::min(m, nrho - 1));
+  const int m = cell(p, 1, nrho - 1);
   p -= m;
   const bool clamped = p > 1.0;
   p = std::min(p, 1.0);
