@@ -490,7 +490,9 @@ std::string H5Reader::read_string(std::string_view p) const {
   Handle d = impl_->dataset(p);
   // H5Dread writes one pointer per element: more than one would overrun `s`
   if (const std::size_t n = count(dims(p)); n != 1)
-    fail(fmt::format("expected one string, found {} elements in dataset", n), impl_->path, p);
+    throw InputError(fmt::format("expected one string, found {} elements in dataset '{}'", n, p))
+        .source(impl_->path.string())
+        .fix("the file was not written by pdcg, or is damaged: write it again");
   Handle t = string_type();
   char* s = nullptr;
   if (H5Dread(d.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &s) < 0)
