@@ -61,12 +61,19 @@ int run(const Options& o) {
       bu::read_configurations(o.input, o.frame, o.frames, &dump_units, needs);
   atomistic::Atoms& ref = frames.front();
   int ntypes = ref.ntypes;
+  // per-type-pair tables hold (ntypes+1)² entries per coefficient: 10⁴ types are 10⁸
+  constexpr int kMaxTypes = 10000;
+  if (ntypes > kMaxTypes)
+    throw InputError("too many atom types declared")
+        .source(o.input)
+        .key("atom types")
+        .value(std::to_string(ntypes))
+        .expected(fmt::format("at most {} types (per-type-pair tables grow as types²)", kMaxTypes))
+        .fix("declare only the types the configuration uses (`N atom types` of the data file)");
   if (ntypes == 0 && !ref.type.empty()) {
     // a dump does not declare its type count: the largest type stands for it
     const auto top = std::max_element(ref.type.begin(), ref.type.end());
     ntypes = *top;
-    // per-type-pair tables hold ntypes² entries: 10⁴ types are 10⁸ per coefficient
-    constexpr int kMaxTypes = 10000;
     if (ntypes > kMaxTypes)
       throw InputError("atom type too large for a dump without a declared type count")
           .source(o.input)

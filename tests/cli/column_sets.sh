@@ -176,6 +176,11 @@ sed '10s/^1 1 /1 2147483647 /' full.dump > bigtype.dump
 expect_error "atoms2pd: type 2147483647 refused" \
   "bigtype.dump: type of atom id 1: atom type too large for a dump without a declared type count: got '2147483647'" \
   atoms2pd --input bigtype.dump --frame 0 --potential lj.in -o x.h5
+# a data file that declares 10^5 atom types (the type-pair tables would need ~80 GB): refused
+printf 'big\n\n2 atoms\n100000 atom types\n0 4 xlo xhi\n0 4 ylo yhi\n0 4 zlo zhi\n\nAtoms # atomic\n\n1 1 0 0 0\n2 1 1.1 0 0\n' > bigtypes.data
+expect_error "atoms2pd: 10^5 declared atom types refused" \
+  "bigtypes.data: atom types: too many atom types declared: got '100000'" \
+  atoms2pd --input bigtypes.data --potential lj.in -o x.h5
 
 # --- zero atoms ------------------------------------------------------------------------------
 out=$("$pdcg" inspect empty.dump 2>&1) && code=0 || code=$?
