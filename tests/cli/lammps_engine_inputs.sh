@@ -53,7 +53,8 @@ lines = open("nacl.dump").read().split("\n")
 i = lines.index("ITEM: ATOMS id type x y z fx fy fz")
 ref = {int(l.split()[0]): [float(v) for v in l.split()[5:8]] for l in lines[i + 1:] if l.strip()}
 got = {}
-for l in open("f.csv").read().split("\n")[1:]:
+# '#' lines (the units line) are comments; then the header id,fx,fy,fz,pe
+for l in [l for l in open("f.csv").read().split("\n") if not l.startswith("#")][1:]:
     if l.strip():
         w = l.split(",")
         got[int(w[0])] = [float(v) for v in w[1:4]]
