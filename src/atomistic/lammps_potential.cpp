@@ -278,9 +278,12 @@ class LammpsPotential final : public Potential {
     // pairwise: a larger box holds many separate dimers per `run 0` (force_state)
     cluster_ = std::make_unique<Cluster>(pair_spec_, (pairwise_ ? 12.0 : 4.0) * cutoff_);
     log::info(
-        "pair_style {}: no native force states; embedded LAMMPS by central differences of "
-        "pe/atom on clusters (slow), measured r_c = {:.6g}, {}, family cutoff {:.6g}",
-        spec_.pair_style, rc, pairwise_ ? "pairwise" : "many-body (horizon 2 r_c)", cutoff_);
+        "pair_style {}: no native force states; embedded LAMMPS {}, measured r_c = {:.6g}, {}, "
+        "family cutoff {:.6g}",
+        spec_.pair_style,
+        pairwise_ ? "forces of separate dimers (analytic)"
+                  : "central differences of pe/atom on clusters (slow)",
+        rc, pairwise_ ? "pairwise" : "many-body (horizon 2 r_c)", cutoff_);
   }
 
   /// Pairwise style: ψ_k = ½ Σ_j s_kj φ(r_kj), t_kj = s_kj ½ φ'(r) Y/r. Every partner j with
