@@ -276,7 +276,7 @@ double Model::energy(const Eigen::VectorXd& u) const {
   return ok ? e : std::numeric_limits<double>::quiet_NaN();
 }
 
-// Residual, fused per stencil (issue 10 §2; docs/performance.md "BA kernels"): one pass
+// Residual, fused per stencil (docs/performance.md "BA kernels"): one pass
 // over the BA stencils reads each stencil's members and G once, gathers F_S, evaluates
 // P(F_S) and scatters f_m += w_S P_S G_S^m while the stencil is in L1. Threads own
 // contiguous stencil ranges (static schedule) and accumulate into private force arrays

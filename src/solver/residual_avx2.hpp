@@ -1,5 +1,5 @@
 // Private to the solver module: the AVX2 + FMA residual sweep and the batched Neo-Hookean
-// stress (issue 10 §2; docs/performance.md "BA kernels against the roofline"). Compiled on
+// stress (docs/performance.md "BA kernels against the roofline"). Compiled on
 // x86-64 with GCC/Clang as functions with target("avx2,fma") and picked at run time when the
 // CPU has both (the portable build stays portable: other CPUs take the scalar code).
 #pragma once

@@ -1,7 +1,7 @@
 /// \file
 /// Static scenes for the BA correspondence solver (`pdcg run scene.yaml`).
 ///
-/// Scene contract (issue 6):
+/// Scene contract:
 /// \code{.yaml}
 ///   units: none            # lj | metal | real | si | none
 ///   dimension: 2
@@ -37,7 +37,7 @@
 /// Unknown keys are errors listing the valid ones. Every numeric key is checked for type, sign,
 /// range and finiteness (one table, src/scene/checks.cpp), contradictions between keys and with
 /// the body are refused, all before the output directory is created (docs/solver.md §6).
-/// Effects (issue 7, docs/effects.md):
+/// Effects (docs/effects.md):
 /// \code{.yaml}
 ///   effects: [rupture]
 ///   rupture: {criterion: bond_stretch, critical: 2.5}   # | principal_stretch | energy_density

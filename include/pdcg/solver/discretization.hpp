@@ -5,7 +5,7 @@
 /// V_i = Δx^d, horizon δ = m Δx (default m = 3.015), families
 ///   H_i = { j ≠ i : |x_j − x_i| ≤ δ, bond (i, j) not crossing a pre-crack }
 /// in CSR. Two kinds of gradient stencils are precomputed from the reference
-/// configuration (DESIGN.md §2.6):
+/// configuration (docs/theory.md §6):
 ///
 ///  - point stencils (classical correspondence): members {i} ∪ H_i;
 ///  - bond stencils (BA, Chen 2018; Chen & Spencer 2018): for each bond (i, j),

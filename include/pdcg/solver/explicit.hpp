@@ -1,5 +1,5 @@
 /// \file
-/// Explicit dynamics of the BA solver (effect `inertia`, issue 7; docs/effects.md).
+/// Explicit dynamics of the BA solver (effect `inertia`; docs/effects.md).
 ///
 /// Lumped mass M_k = ρ V_k, equations of motion M ü = f_ext(t) − f(u) − c M u̇ with f the
 /// internal force of the Model (weak or energy form) and c an optional viscous damping

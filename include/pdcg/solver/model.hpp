@@ -1,6 +1,6 @@
 /// \file
 /// Residual and consistent tangent of the correspondence model on a
-/// Discretization (DESIGN.md §2.6).
+/// Discretization (docs/theory.md §6).
 ///
 /// Energy part (variational). With energy stencils S (BA bonds, or points for
 /// the classical model) of weights w_S,

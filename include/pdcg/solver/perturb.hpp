@@ -1,5 +1,5 @@
 /// \file
-/// Randomly perturbed grids (issue 9 hard cases): a regular grid body whose point
+/// Randomly perturbed grids (hard cases, docs/validation.md §2): a regular grid body whose point
 /// positions are jittered, to check that the BA solver has no spurious zero-energy
 /// modes and no displacement oscillations on irregular point clouds.
 ///

@@ -1,5 +1,5 @@
 /// \file
-/// Rupture for the BA correspondence solver (issue 7, DESIGN.md §2.6; docs/effects.md).
+/// Rupture for the BA correspondence solver (docs/theory.md §9; docs/effects.md).
 ///
 /// A bond (i, j) breaks when the chosen criterion exceeds `critical`:
 ///  - bond_stretch:       s_ij = |y_j − y_i| / |x_j − x_i|;

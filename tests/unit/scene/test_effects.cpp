@@ -1,4 +1,4 @@
-// Scene effects (issue 7, docs/effects.md): the effects list, its errors, and
+// Scene effects (docs/effects.md): the effects list, its errors, and
 // "only what a scene asks for" in the output files.
 #include <gtest/gtest.h>
 

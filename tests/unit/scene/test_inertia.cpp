@@ -1,4 +1,4 @@
-// Scenes with inertia and damping (issue 7, docs/effects.md): explicit dynamics run from a
+// Scenes with inertia and damping (docs/effects.md): explicit dynamics run from a
 // scene file, checked against closed forms (energy conservation of velocity Verlet, the
 // long-wave speed of the material, exponential energy decay under viscous damping, the
 // homogeneous static state reached by adaptive dynamic relaxation), and every input error.
@@ -112,7 +112,7 @@ bool has(const std::string& s, const std::string& part) {
 
 }  // namespace
 
-// Acceptance of issue 7: free vibration (energy form, variational) conserves energy.
+// Acceptance (docs/effects.md §3): free vibration (energy form, variational) conserves energy.
 TEST(Inertia, FreeVibrationFromASceneConservesEnergy) {
   const auto out = run("vib", bar(1.0, 0.25, "energy", 1e-3,
                                   "effects: [inertia]\n"
@@ -131,7 +131,7 @@ TEST(Inertia, FreeVibrationFromASceneConservesEnergy) {
   }
   std::printf("%g steps: drift of the Verlet energy %.3e, E_kin + Π oscillation %.3e\n",
               step.back(), drift, osc);
-  EXPECT_LT(drift, 1e-4);  // acceptance of issue 7
+  EXPECT_LT(drift, 1e-4);  // acceptance bound (docs/effects.md §3)
   // E_kin(v_n) + Π differs from the conserved energy by (Δt²/8) aᵀMa = O((ωΔt)²/8) of E:
   // bounded (ω₁Δt ≈ 0.35 here), no secular growth.
   EXPECT_LT(osc, 0.05);
@@ -141,7 +141,7 @@ TEST(Inertia, FreeVibrationFromASceneConservesEnergy) {
   EXPECT_FALSE(h5.exists("fields/damage"));
 }
 
-// Acceptance of issue 7: the wave speed measured from a scene run is the long-wave speed.
+// Acceptance (docs/effects.md §3): the wave speed measured from a scene run is the long-wave speed.
 // The end reactions of the first mode oscillate as sin(ωt), ω = πc/L'.
 TEST(Inertia, MeasuredWaveSpeedIsTheLongWaveSpeed) {
   const double L = 4.0;
@@ -161,7 +161,7 @@ TEST(Inertia, MeasuredWaveSpeedIsTheLongWaveSpeed) {
   const double c_exact = std::sqrt(10.0 + 4.0 / 3.0);
   std::printf("wave speed from the scene: %.6f, long-wave %.6f, rel. error %.3e\n", c_measured,
               c_exact, c_measured / c_exact - 1);
-  EXPECT_NEAR(c_measured / c_exact, 1.0, 0.01);  // acceptance of issue 7 (1%)
+  EXPECT_NEAR(c_measured / c_exact, 1.0, 0.01);  // acceptance bound (docs/effects.md §3: 1 %)
 }
 
 // Viscous damping −cMv: the energy decays monotonically, and for light damping (c ≪ ω) as

@@ -147,7 +147,7 @@ TEST(PerPointCauchyBorn, InteriorPointsEqualTheBodyLevelMaterialAndTangentMatche
           }
       }
     std::printf("  point %d: |A − FD|/max|A| = %.2e\n", p, err / amax);
-    EXPECT_LT(err, 1e-6 * amax);  // acceptance of issue 8
+    EXPECT_LT(err, 1e-6 * amax);  // FD bound: truncation and round-off above, with margin
   }
 }
 

@@ -173,7 +173,7 @@ TEST(SceneCauchyBorn, MaterialIsTheModelsCauchyBornStressAndTangent) {
           }
       }
     std::printf("  %dD cauchy-born scene material: |A - FD|/max|A| = %.2e\n", c.d, err / amax);
-    EXPECT_LT(err, 1e-6 * amax);  // acceptance of issue 8
+    EXPECT_LT(err, 1e-6 * amax);  // FD bound: truncation and round-off above, with margin
   }
 }
 

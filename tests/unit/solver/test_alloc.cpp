@@ -1,4 +1,4 @@
-// Zero allocations in the hot loops (issue 10): the residual evaluation f(u), the
+// Zero allocations in the hot loops (docs/performance.md): the residual evaluation f(u), the
 // residual + tangent assembly into K's pattern, and the matrix-free operator (its
 // evaluation and the product K v) must not touch the heap once the scratch buffers exist
 // (first call). A counting global

@@ -1,4 +1,4 @@
-// Dynamic fracture (inertia + rupture, issue 7; docs/effects.md §3c, docs/validation.md §3b),
+// Dynamic fracture (inertia + rupture; docs/effects.md §3c, docs/validation.md §3b),
 // validated against closed forms nobody here wrote:
 //  (a) a pre-stretched bar cut at a section: the release wave travels at the long-wave
 //      speed c = √((K + 4μ/3)/ρ) of the material (uniaxial strain) and the free end moves

@@ -1,4 +1,4 @@
-// Explicit dynamics of the BA solver (effect `inertia`, issue 7, docs/effects.md).
+// Explicit dynamics of the BA solver (effect `inertia`, docs/effects.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,7 +83,7 @@ TEST(Explicit, FreeVibrationConservesEnergy) {
   std::printf(
       "over 1e4 steps (Δt = %.4g): modified-energy drift %.3e, E_kin + Π oscillation %.3e\n",
       s.time_step(), drift, osc);
-  EXPECT_LT(drift, 1e-4);  // acceptance of issue 7
+  EXPECT_LT(drift, 1e-4);  // acceptance bound (docs/effects.md §3)
 }
 
 // Weak form, uniaxial strain: the fundamental of a fixed–fixed bar has ω = π c / L' with
@@ -121,7 +121,7 @@ TEST(Explicit, WaveSpeedIsTheLongWaveSpeed) {
   const double c_exact = std::sqrt(10.0 + 4.0 / 3.0);
   std::printf("c measured %.6f, long-wave %.6f, rel. error %.3e\n", c_measured, c_exact,
               c_measured / c_exact - 1);
-  EXPECT_NEAR(c_measured / c_exact, 1.0, 0.01);  // acceptance of issue 7 (1%)
+  EXPECT_NEAR(c_measured / c_exact, 1.0, 0.01);  // acceptance bound (docs/effects.md §3: 1 %)
 }
 
 TEST(Explicit, TimeStepAboveTheStableLimitIsRefused) {

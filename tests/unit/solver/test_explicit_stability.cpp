@@ -1,4 +1,4 @@
-// Issue 9 hard case (label `stability`): explicit dynamics at the edge of the stable step.
+// Hard case (label `stability`, docs/validation.md §2): explicit dynamics at the edge of the stable step.
 //
 // Safeguard: ExplicitSolver refuses a time step above the Gershgorin bound
 // Δt_G = 2/√(max_k Σ_n |K_kn|/M_k) (InputError) unless allow_unstable. Without it a user

@@ -1,4 +1,4 @@
-// Rupture on the BA solver (issue 7, docs/effects.md).
+// Rupture on the BA solver (docs/effects.md).
 #include <gtest/gtest.h>
 
 #include <cmath>

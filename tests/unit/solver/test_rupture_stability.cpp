@@ -1,4 +1,4 @@
-// Issue 9 hard case for rupture (ctest label `stability`, docs/effects.md).
+// Hard case for rupture (ctest label `stability`, docs/effects.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +8,7 @@
 
 using namespace pdcg::solver;
 
-// Issue 9 hard case: many broken bonds at a crack tip, points cut loose entirely.
+// Hard case: many broken bonds at a crack tip, points cut loose entirely.
 TEST(RuptureStability, ManyBrokenBondsAtACrackTipGiveNoNaN) {
   GridSpec g;
   g.spacing = 1.0 / 20;
