@@ -214,6 +214,36 @@ def _lammps_atoms(lmp) -> Atoms:
                  tuple(bool(p) for p in periodicity), type_mass, masses, "<lammps instance>")
 
 
+def _check_against_instance(lmp, body: Body, source: str, tolerance: float) -> None:
+    """`run 0 post no`, then the body's forces and energy against the instance's: a wrong
+    coefficient or a missing command is refused. Scale of the forces: the largest force, or
+    |energy per atom| / horizon for a configuration at (or near) equilibrium."""
+    lmp.command("run 0 post no")
+    nlocal = lmp.extract_global("nlocal")
+    ids = np.array(lmp.numpy.extract_atom("id")[:nlocal], dtype=np.int64)
+    f = np.array(lmp.numpy.extract_atom("f")[:nlocal], dtype=np.float64).reshape(nlocal, 3)
+    f = f[np.argsort(ids)]
+    e_lmp = float(lmp.extract_compute("thermo_pe", 0, 0))
+    e = body.energy()
+    n = max(len(body), 1)
+    scale = max(float(np.abs(f).max()) if f.size else 0.0,
+                abs(e_lmp) / n / max(body.horizon, 1e-300), 1e-300)
+    diff = np.abs(body.forces() - f)
+    fix = ("Fix: pass the instance's exact pair_style/pair_coeff/pair_modify/special_bonds "
+           "commands (fixes that add forces or energy, e.g. fix setforce, also make them "
+           "differ: check_forces=False skips this check)")
+    if f.size and diff.max() > tolerance * scale:
+        worst = int(np.argmax(diff.max(axis=1)))
+        raise InputError(
+            f"{source}: the commands do not reproduce the LAMMPS instance's forces: got "
+            f"max |f_pdcg - f_lammps| = {diff.max():.6g} at atom id {body.ids[worst]}, "
+            f"expected at most {tolerance:g} x {scale:.6g}. {fix}")
+    if abs(e - e_lmp) > tolerance * max(abs(e_lmp), scale * body.horizon * n):
+        raise InputError(
+            f"{source}: the commands do not reproduce the LAMMPS instance's energy: got "
+            f"{e:.12g}, expected {e_lmp:.12g} (compute thermo_pe). {fix}")
+
+
 def from_lammps(lmp, potential: Optional[str] = None, *,
                 commands: Union[None, str, Sequence[str]] = None,
                 dimension: Optional[int] = None, family_cutoff: Optional[float] = None,
@@ -279,22 +309,7 @@ def from_lammps(lmp, potential: Optional[str] = None, *,
     body = _pdcg._build_body([atoms], potential or "", text, dimension, family_cutoff, boundary,
                              "", None, None, None)
     if check_forces:
-        lmp.command("run 0 post no")
-        nlocal = lmp.extract_global("nlocal")
-        ids = np.array(lmp.numpy.extract_atom("id")[:nlocal], dtype=np.int64)
-        f = np.array(lmp.numpy.extract_atom("f")[:nlocal], dtype=np.float64).reshape(nlocal, 3)
-        f = f[np.argsort(ids)]
-        diff = np.abs(body.forces() - f)
-        scale = max(float(np.abs(f).max()) if f.size else 0.0, 1e-300)
-        worst = int(np.argmax(diff.max(axis=1))) if f.size else 0
-        if f.size and diff.max() > tolerance * scale:
-            raise InputError(
-                f"{source}: the commands do not reproduce the LAMMPS instance's forces: got "
-                f"max |f_pdcg - f_lammps| = {diff.max():.6g} at atom id {body.ids[worst]}, "
-                f"expected at most {tolerance:g} x max|f| = {tolerance * scale:.6g}. Fix: pass "
-                "the instance's exact pair_style/pair_coeff/pair_modify/special_bonds commands "
-                "(fixes that add forces, e.g. fix setforce, also make them differ: "
-                "check_forces=False skips this check)")
+        _check_against_instance(lmp, body, source, tolerance)
     return body
 
 
