@@ -83,3 +83,18 @@ def test_statistical_body(tmp_path):
     assert sb.kind == "statistical" and len(sb) == 108
     one = pdcg.statistical_body(frames[0], commands=LJ, width=0.01)
     assert np.isfinite(one.energy())
+
+
+def test_stub_names_the_api():
+    """pdcg/__init__.pyi declares every public name (the stub does not drift from the API)."""
+    import ast
+    import os
+    stub = os.path.join(os.path.dirname(pdcg.__file__), "__init__.pyi")
+    tree = ast.parse(open(stub).read())
+    names = set()
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.Assign):
+            names.update(t.id for t in node.targets if isinstance(t, ast.Name))
+    assert set(pdcg.__all__) <= names, set(pdcg.__all__) - names
