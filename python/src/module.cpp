@@ -59,7 +59,7 @@ py::array view(const std::shared_ptr<Owner>& owner, const T* data, std::vector<p
   py::capsule base(keep, [](void* p) { delete static_cast<std::shared_ptr<Owner>*>(p); });
   py::array_t<T> a(shape, data, base);
   a.attr("setflags")(py::arg("write") = false);
-  return std::move(a);
+  return a;
 }
 
 /// A numpy array owning a copy of v (results of one evaluation: the evaluator reuses its work
@@ -131,11 +131,9 @@ std::vector<AtomsPtr> read_frames(const std::string& path, std::optional<std::in
   std::vector<atomistic::Atoms> conf;
   {
     py::gil_scoped_release release;
-    conf = atomistic::read_configurations(path, frame, frames, &units, needs,
-                                          {"frame", "frames"});
+    conf = atomistic::read_configurations(path, frame, frames, &units, needs, {"frame", "frames"});
   }
-  const bool data =
-      atomistic::detect_atom_file_kind(path) == atomistic::AtomFileKind::data;
+  const bool data = atomistic::detect_atom_file_kind(path) == atomistic::AtomFileKind::data;
   std::vector<AtomsPtr> out;
   for (auto& a : conf) {
     auto h = std::make_shared<AtomsHandle>();
@@ -214,8 +212,9 @@ AtomsPtr make_atoms(py::handle ids, py::handle types, py::handle positions, py::
   if (!masses.is_none()) {
     const auto m = py::cast<std::vector<double>>(masses);
     if (m.size() != n)
-      throw InputError("masses do not match the positions").key("masses").expected(
-          fmt::format("{} per-atom masses", n));
+      throw InputError("masses do not match the positions")
+          .key("masses")
+          .expected(fmt::format("{} per-atom masses", n));
     a.mass = m;
   }
   const int top = n ? *std::max_element(a.type.begin(), a.type.end()) : 0;
@@ -308,8 +307,8 @@ std::pair<std::array<bool, 3>, bool> periodicity(const AtomsHandle& h,
   bool stated = h.periodicity_stated;
   if (spec.periodic) {
     if (stated && *spec.periodic != p)
-      log::warn("`boundary {}` ({}:{}) wins over the periodicity of {}", spec.boundary,
-                spec.source, spec.boundary_line, h.source);
+      log::warn("`boundary {}` ({}:{}) wins over the periodicity of {}", spec.boundary, spec.source,
+                spec.boundary_line, h.source);
     p = *spec.periodic;
     stated = true;
   }
@@ -371,8 +370,7 @@ body::Body build_body(std::vector<AtomsPtr> frames_in, const BodyArgs& args,
   if (statistics == "empirical") {
     s = body::empirical_from_frames(b, frames);
   } else if (width) {
-    if (frames.size() > 1)
-      throw InputError("give width= or several frames, not both").key("width");
+    if (frames.size() > 1) throw InputError("give width= or several frames, not both").key("width");
     s = body::isotropic_gaussian(b, *width);
   } else {
     if (frames.size() < 2)
@@ -469,13 +467,19 @@ PYBIND11_MODULE(_pdcg, m) {
   m.def(
       "set_log_level",
       [](const std::string& level) {
-        if (level == "debug") log::set_level(log::Level::debug);
-        else if (level == "info") log::set_level(log::Level::info);
-        else if (level == "warn" || level == "warning") log::set_level(log::Level::warn);
-        else if (level == "error") log::set_level(log::Level::error);
+        if (level == "debug")
+          log::set_level(log::Level::debug);
+        else if (level == "info")
+          log::set_level(log::Level::info);
+        else if (level == "warn" || level == "warning")
+          log::set_level(log::Level::warn);
+        else if (level == "error")
+          log::set_level(log::Level::error);
         else
-          throw InputError("unknown log level").key("level").value(level).expected(
-              "debug, info, warn or error");
+          throw InputError("unknown log level")
+              .key("level")
+              .value(level)
+              .expected("debug, info, warn or error");
       },
       py::arg("level"), "Log level of pdcg's messages on stderr: debug, info, warn, error.");
 
@@ -486,53 +490,77 @@ Arrays are read-only numpy views of pdcg's memory (no copy); they keep the confi
 Positions are unwrapped when the file gives image flags (docs/atomistic-input.md).)doc")
       .def(py::init(&make_atoms), py::arg("ids"), py::arg("types"), py::arg("positions"),
            py::arg("lo"), py::arg("hi"), py::arg("tilt") = py::make_tuple(0.0, 0.0, 0.0),
-           py::arg("periodic") = py::make_tuple(true, true, true), py::arg("type_mass") = py::none(),
-           py::arg("masses") = py::none(), py::arg("source") = "<python>",
+           py::arg("periodic") = py::make_tuple(true, true, true),
+           py::arg("type_mass") = py::none(), py::arg("masses") = py::none(),
+           py::arg("source") = "<python>",
            "Atoms from arrays: ids (N), types (N, 1-based), positions (N, 3), the LAMMPS box "
            "(lo, hi, tilt xy xz yz), periodic flags, masses per type (type_mass[t-1]) or per atom. "
            "Sorted by id; InputError for duplicate ids, non-finite positions, types < 1.")
-      .def_property_readonly("ids", [](const AtomsPtr& h) {
-        return view(h, h->atoms.id.data(), {static_cast<py::ssize_t>(h->atoms.size())});
-      })
-      .def_property_readonly("types", [](const AtomsPtr& h) -> py::object {
-        if (h->atoms.type.empty()) return py::none();
-        return view(h, h->atoms.type.data(), {static_cast<py::ssize_t>(h->atoms.size())});
-      })
-      .def_property_readonly("positions", [](const AtomsPtr& h) {
-        return view(h, h->atoms.x.data(), {static_cast<py::ssize_t>(h->atoms.size()), 3});
-      })
-      .def_property_readonly("velocities", [](const AtomsPtr& h) -> py::object {
-        if (h->atoms.v.empty()) return py::none();
-        return view(h, h->atoms.v.data(), {static_cast<py::ssize_t>(h->atoms.size()), 3});
-      })
-      .def_property_readonly("forces", [](const AtomsPtr& h) -> py::object {
-        if (h->atoms.f.empty()) return py::none();
-        return view(h, h->atoms.f.data(), {static_cast<py::ssize_t>(h->atoms.size()), 3});
-      })
-      .def_property_readonly("type_mass", [](const AtomsPtr& h) -> py::object {
-        if (h->atoms.type_mass.size() < 2) return py::none();
-        return view(h, h->atoms.type_mass.data() + 1,
-                    {static_cast<py::ssize_t>(h->atoms.type_mass.size() - 1)});
-      }, "Mass per type, index t-1 for type t (NaN where unknown); None if the source has none.")
-      .def_property_readonly("box", [](const AtomsPtr& h) { return box_dict(h->atoms.box); },
-                             "The LAMMPS box: lo, hi, tilt (xy, xz, yz), periodic, h = [a b c].")
+      .def_property_readonly("ids",
+                             [](const AtomsPtr& h) {
+                               return view(h, h->atoms.id.data(),
+                                           {static_cast<py::ssize_t>(h->atoms.size())});
+                             })
+      .def_property_readonly("types",
+                             [](const AtomsPtr& h) -> py::object {
+                               if (h->atoms.type.empty()) return py::none();
+                               return view(h, h->atoms.type.data(),
+                                           {static_cast<py::ssize_t>(h->atoms.size())});
+                             })
+      .def_property_readonly(
+          "positions",
+          [](const AtomsPtr& h) {
+            return view(h, h->atoms.x.data(), {static_cast<py::ssize_t>(h->atoms.size()), 3});
+          })
+      .def_property_readonly(
+          "velocities",
+          [](const AtomsPtr& h) -> py::object {
+            if (h->atoms.v.empty()) return py::none();
+            return view(h, h->atoms.v.data(), {static_cast<py::ssize_t>(h->atoms.size()), 3});
+          })
+      .def_property_readonly(
+          "forces",
+          [](const AtomsPtr& h) -> py::object {
+            if (h->atoms.f.empty()) return py::none();
+            return view(h, h->atoms.f.data(), {static_cast<py::ssize_t>(h->atoms.size()), 3});
+          })
+      .def_property_readonly(
+          "type_mass",
+          [](const AtomsPtr& h) -> py::object {
+            if (h->atoms.type_mass.size() < 2) return py::none();
+            return view(h, h->atoms.type_mass.data() + 1,
+                        {static_cast<py::ssize_t>(h->atoms.type_mass.size() - 1)});
+          },
+          "Mass per type, index t-1 for type t (NaN where unknown); None if the source has none.")
+      .def_property_readonly(
+          "box", [](const AtomsPtr& h) { return box_dict(h->atoms.box); },
+          "The LAMMPS box: lo, hi, tilt (xy, xz, yz), periodic, h = [a b c].")
       .def_property_readonly("timestep", [](const AtomsPtr& h) { return h->atoms.timestep; })
       .def_property_readonly("ntypes", [](const AtomsPtr& h) { return atom_types(*h); })
       .def_property_readonly("source", [](const AtomsPtr& h) { return h->source; })
-      .def_property_readonly("units", [](const AtomsPtr& h) { return h->units; },
-                             "The dump's ITEM: UNITS (empty if it has none).")
-      .def_property_readonly("columns", [](const AtomsPtr& h) {
-        std::vector<std::string> k;
-        for (const auto& [name, v] : h->atoms.extra) k.push_back(name);
-        return k;
-      }, "Names of the other per-atom columns (see column()).")
-      .def("column", [](const AtomsPtr& h, const std::string& name) {
-        auto it = h->atoms.extra.find(name);
-        if (it == h->atoms.extra.end())
-          throw InputError("no such column").source(h->source).key(name).fix(
-              "Atoms.columns lists the columns");
-        return view(h, it->second.data(), {static_cast<py::ssize_t>(it->second.size())});
-      }, py::arg("name"))
+      .def_property_readonly(
+          "units", [](const AtomsPtr& h) { return h->units; },
+          "The dump's ITEM: UNITS (empty if it has none).")
+      .def_property_readonly(
+          "columns",
+          [](const AtomsPtr& h) {
+            std::vector<std::string> k;
+            for (const auto& [name, v] : h->atoms.extra) k.push_back(name);
+            return k;
+          },
+          "Names of the other per-atom columns (see column()).")
+      .def(
+          "column",
+          [](const AtomsPtr& h, const std::string& name) {
+            auto it = h->atoms.extra.find(name);
+            if (it == h->atoms.extra.end())
+              throw InputError("no such column")
+                  .source(h->source)
+                  .key(name)
+                  .fix("Atoms.columns lists the columns");
+            return view(h, it->second.data(), {static_cast<py::ssize_t>(it->second.size())});
+          },
+          py::arg("name"))
       .def("__len__", [](const AtomsPtr& h) { return h->atoms.size(); })
       .def("__repr__", [](const AtomsPtr& h) {
         return fmt::format("<pdcg.Atoms {} atoms from {}>", h->atoms.size(), h->source);
@@ -560,56 +588,86 @@ or a data file (frame 0 or -1). The kind is told from the content (docs/atomisti
 A peridynamic body made from atoms (docs/theory.md §1–4): delta, statistical, homogenised or
 rescaled. Holds its potential (shared): it outlives the atoms and files it came from.
 Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
-      .def_property_readonly("kind", [](const BodyPtr& h) { return std::string(body::to_string(h->body->kind)); })
-      .def_property_readonly("units", [](const BodyPtr& h) { return std::string(to_string(h->body->units)); })
+      .def_property_readonly(
+          "kind", [](const BodyPtr& h) { return std::string(body::to_string(h->body->kind)); })
+      .def_property_readonly(
+          "units", [](const BodyPtr& h) { return std::string(to_string(h->body->units)); })
       .def_property_readonly("dimension", [](const BodyPtr& h) { return h->body->dimension; })
-      .def_property_readonly("ids", [](const BodyPtr& h) {
-        return view(h, h->body->id.data(), {static_cast<py::ssize_t>(h->body->size())});
-      })
-      .def_property_readonly("types", [](const BodyPtr& h) {
-        return view(h, h->body->type.data(), {static_cast<py::ssize_t>(h->body->size())});
-      })
-      .def_property_readonly("positions", [](const BodyPtr& h) {
-        return view(h, h->body->x.data(), {static_cast<py::ssize_t>(h->body->size()), 3});
-      }, "Reference positions x_k (N, 3).")
-      .def_property_readonly("masses", [](const BodyPtr& h) {
-        return view(h, h->body->mass.data(), {static_cast<py::ssize_t>(h->body->size())});
-      }, "Point masses M_k (N).")
+      .def_property_readonly("ids",
+                             [](const BodyPtr& h) {
+                               return view(h, h->body->id.data(),
+                                           {static_cast<py::ssize_t>(h->body->size())});
+                             })
+      .def_property_readonly("types",
+                             [](const BodyPtr& h) {
+                               return view(h, h->body->type.data(),
+                                           {static_cast<py::ssize_t>(h->body->size())});
+                             })
+      .def_property_readonly(
+          "positions",
+          [](const BodyPtr& h) {
+            return view(h, h->body->x.data(), {static_cast<py::ssize_t>(h->body->size()), 3});
+          },
+          "Reference positions x_k (N, 3).")
+      .def_property_readonly(
+          "masses",
+          [](const BodyPtr& h) {
+            return view(h, h->body->mass.data(), {static_cast<py::ssize_t>(h->body->size())});
+          },
+          "Point masses M_k (N).")
       .def_property_readonly("box", [](const BodyPtr& h) { return box_dict(h->body->box); })
       .def_property_readonly("horizon", [](const BodyPtr& h) { return h->body->horizon(); })
-      .def_property_readonly("epsilon", [](const BodyPtr& h) { return h->body->epsilon; },
-                             "Rescaling factor ε applied so far (docs/theory.md §4).")
-      .def_property_readonly("reference_volume", [](const BodyPtr& h) { return h->body->reference_volume(); })
+      .def_property_readonly(
+          "epsilon", [](const BodyPtr& h) { return h->body->epsilon; },
+          "Rescaling factor ε applied so far (docs/theory.md §4).")
+      .def_property_readonly("reference_volume",
+                             [](const BodyPtr& h) { return h->body->reference_volume(); })
       .def_property_readonly("bonds", [](const BodyPtr& h) { return h->body->families.bonds(); })
-      .def_property_readonly("family_offsets", [](const BodyPtr& h) {
-        const auto& f = h->body->families;
-        return view(h, f.offset.data(), {static_cast<py::ssize_t>(f.offset.size())});
-      }, "CSR offsets of the families: bonds of point k are family_neighbors[off[k]:off[k+1]].")
-      .def_property_readonly("family_neighbors", [](const BodyPtr& h) {
-        const auto& f = h->body->families;
-        return view(h, f.neighbor.data(), {static_cast<py::ssize_t>(f.neighbor.size())});
-      })
-      .def_property_readonly("potential_style", [](const BodyPtr& h) {
-        return h->body->potential ? h->body->potential->style() : std::string();
-      })
-      .def_property_readonly("potential_commands", [](const BodyPtr& h) { return h->body->potential_spec.lines; },
-                             "The LAMMPS command lines of the potential, as stored in a model file.")
+      .def_property_readonly(
+          "family_offsets",
+          [](const BodyPtr& h) {
+            const auto& f = h->body->families;
+            return view(h, f.offset.data(), {static_cast<py::ssize_t>(f.offset.size())});
+          },
+          "CSR offsets of the families: bonds of point k are family_neighbors[off[k]:off[k+1]].")
+      .def_property_readonly("family_neighbors",
+                             [](const BodyPtr& h) {
+                               const auto& f = h->body->families;
+                               return view(h, f.neighbor.data(),
+                                           {static_cast<py::ssize_t>(f.neighbor.size())});
+                             })
+      .def_property_readonly("potential_style",
+                             [](const BodyPtr& h) {
+                               return h->body->potential ? h->body->potential->style()
+                                                         : std::string();
+                             })
+      .def_property_readonly(
+          "potential_commands", [](const BodyPtr& h) { return h->body->potential_spec.lines; },
+          "The LAMMPS command lines of the potential, as stored in a model file.")
       .def_property_readonly("provenance", [](const BodyPtr& h) { return h->body->provenance; })
-      .def_property_readonly("points", [](const BodyPtr& h) -> py::object {
-        const auto& hm = h->body->homogenisation;
-        if (!hm) return py::none();
-        return view(h, hm->points.data(), {static_cast<py::ssize_t>(hm->size()), 3});
-      }, "Homogenised bodies: continuum points x_p (P, 3) (docs/theory.md §3); else None.")
-      .def_property_readonly("point_volumes", [](const BodyPtr& h) -> py::object {
-        const auto& hm = h->body->homogenisation;
-        if (!hm) return py::none();
-        return view(h, hm->volume.data(), {static_cast<py::ssize_t>(hm->size())});
-      })
-      .def_property_readonly("point_masses", [](const BodyPtr& h) -> py::object {
-        const auto& hm = h->body->homogenisation;
-        if (!hm) return py::none();
-        return view(h, hm->mass.data(), {static_cast<py::ssize_t>(hm->size())});
-      }, "m_p = Σ_k w_kp M_k (docs/theory.md §3).")
+      .def_property_readonly(
+          "points",
+          [](const BodyPtr& h) -> py::object {
+            const auto& hm = h->body->homogenisation;
+            if (!hm) return py::none();
+            return view(h, hm->points.data(), {static_cast<py::ssize_t>(hm->size()), 3});
+          },
+          "Homogenised bodies: continuum points x_p (P, 3) (docs/theory.md §3); else None.")
+      .def_property_readonly("point_volumes",
+                             [](const BodyPtr& h) -> py::object {
+                               const auto& hm = h->body->homogenisation;
+                               if (!hm) return py::none();
+                               return view(h, hm->volume.data(),
+                                           {static_cast<py::ssize_t>(hm->size())});
+                             })
+      .def_property_readonly(
+          "point_masses",
+          [](const BodyPtr& h) -> py::object {
+            const auto& hm = h->body->homogenisation;
+            if (!hm) return py::none();
+            return view(h, hm->mass.data(), {static_cast<py::ssize_t>(hm->size())});
+          },
+          "m_p = Σ_k w_kp M_k (docs/theory.md §3).")
       .def(
           "_evaluate",
           [](const BodyPtr& h, py::object positions, py::object box_h) {
@@ -635,7 +693,8 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
             }
             py::object pe = py::none();
             if (!r.point_energies.empty())
-              pe = copy_of<double>(r.point_energies, {static_cast<py::ssize_t>(r.point_energies.size())});
+              pe = copy_of<double>(r.point_energies,
+                                   {static_cast<py::ssize_t>(r.point_energies.size())});
             return py::make_tuple(r.energy, copy_of<double>(r.forces, {n, 3}),
                                   copy_of<double>(r.psi, {n}), pe);
           },
@@ -665,7 +724,8 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
         }
         return std::make_shared<BodyHandle>(std::move(b));
       },
-      py::arg("path"), "Reads a model file (pdcg-body, docs/formats.md) written by pdcg or Body.write.");
+      py::arg("path"),
+      "Reads a model file (pdcg-body, docs/formats.md) written by pdcg or Body.write.");
 
   m.def(
       "_build_body",
@@ -732,7 +792,8 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
           g.spacing = *spacing;
           if (!axes.is_none()) {
             g.rotation = mat3(axes, "axes").transpose();  // rows given = grid axes
-            if (!(g.rotation.transpose() * g.rotation).isApprox(Eigen::Matrix3d::Identity(), 1e-8) ||
+            if (!(g.rotation.transpose() * g.rotation)
+                     .isApprox(Eigen::Matrix3d::Identity(), 1e-8) ||
                 g.rotation.determinant() < 0)
               throw InputError("grid axes are not orthonormal and right-handed")
                   .key("axes")
@@ -789,8 +850,8 @@ wendland-c2 (width: support radius; σ for gaussian). A regular grid of `spacing
               .value(fmt::format("det F = {:.6g}", F.determinant()))
               .expected("det F > 0");
         const auto& b = *h->body;
-        if (b.dimension == 2 &&
-            (F(0, 2) != 0.0 || F(1, 2) != 0.0 || F(2, 0) != 0.0 || F(2, 1) != 0.0 || F(2, 2) != 1.0))
+        if (b.dimension == 2 && (F(0, 2) != 0.0 || F(1, 2) != 0.0 || F(2, 0) != 0.0 ||
+                                 F(2, 1) != 0.0 || F(2, 2) != 1.0))
           throw InputError("2D body: F must be a plane-strain deformation")
               .key("F")
               .expected("F13 = F23 = F31 = F32 = 0 and F33 = 1");
@@ -892,7 +953,8 @@ wendland-c2 (width: support radius; σ for gaussian). A regular grid of `spacing
           description = model.description();
           if (path.empty()) {
             double km = kmax.value_or(0.0);
-            if (!(km > 0)) km = dispersion::zone_edge(b, model.representative_atom(), dir, "direction");
+            if (!(km > 0))
+              km = dispersion::zone_edge(b, model.representative_atom(), dir, "direction");
             for (int i = 0; i <= nk; ++i) {
               const double k = km * i / nk;
               ks.emplace_back(k, k * dir);

@@ -21,7 +21,8 @@ FrameSelection select_frames(const std::optional<std::int64_t>& frame, const std
     r.last = r.first + 1;
   } else if (!frames.empty()) {
     // The one frame-range syntax of pdcg (docs/cli.md): A:B[:S], B inclusive.
-    const auto fr = pdcg::parse_frame_range(frames, static_cast<std::size_t>(nframes), names.frames);
+    const auto fr =
+        pdcg::parse_frame_range(frames, static_cast<std::size_t>(nframes), names.frames);
     r.first = static_cast<std::int64_t>(fr.first);
     r.last = static_cast<std::int64_t>(fr.last) + 1;
     r.step = static_cast<std::int64_t>(fr.stride);
@@ -50,7 +51,8 @@ std::vector<Atoms> read_configurations(const std::string& path,
   }
   DumpReader dump(path);
   if (units) *units = dump.units();
-  const auto r = select_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path, names);
+  const auto r =
+      select_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path, names);
   for (std::int64_t f = r.first; f < r.last; f += r.step)
     out.push_back(dump.frame(static_cast<std::size_t>(f), needs));
   return out;
