@@ -210,8 +210,16 @@ def _lammps_atoms(lmp) -> Atoms:
         rmass = None
     if rmass is not None:
         masses = np.array(rmass[:nlocal], dtype=np.float64)
+    bonds = None
+    try:
+        nb, data = lmp.gather_bonds()
+    except Exception:  # atom styles without bonds
+        nb, data = 0, None
+    if nb:
+        bonds = np.ctypeslib.as_array(data, shape=(3 * nb,)).reshape(nb, 3).astype(np.int64)
     return Atoms(ids, types, x, tuple(boxlo), tuple(boxhi), (xy, xz, yz),
-                 tuple(bool(p) for p in periodicity), type_mass, masses, "<lammps instance>")
+                 tuple(bool(p) for p in periodicity), type_mass, masses, "<lammps instance>",
+                 bonds)
 
 
 def _check_against_instance(lmp, body: Body, source: str, tolerance: float) -> None:

@@ -19,6 +19,7 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -148,7 +149,7 @@ std::vector<AtomsPtr> read_frames(const std::string& path, std::optional<std::in
 
 AtomsPtr make_atoms(py::handle ids, py::handle types, py::handle positions, py::handle lo,
                     py::handle hi, py::handle tilt, py::handle periodic, py::handle type_mass,
-                    py::handle masses, std::string source) {
+                    py::handle masses, std::string source, py::handle bonds) {
   auto x = rows3(positions, "positions");
   const auto n = static_cast<std::size_t>(x.shape(0));
   auto id = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(ids);
@@ -217,6 +218,27 @@ AtomsPtr make_atoms(py::handle ids, py::handle types, py::handle positions, py::
           .expected(fmt::format("{} per-atom masses", n));
     a.mass = m;
   }
+  if (!bonds.is_none()) {
+    auto bd = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(bonds);
+    if (!bd || bd.ndim() != 2 || bd.shape(1) != 3)
+      throw InputError("wrong array shape")
+          .source(source)
+          .key("bonds")
+          .expected("an (M, 3) integer array: bond type, atom id 1, atom id 2");
+    for (py::ssize_t i = 0; i < bd.shape(0); ++i) {
+      atomistic::Bond b;
+      b.type = static_cast<int>(bd.at(i, 0));
+      b.atom1 = bd.at(i, 1);
+      b.atom2 = bd.at(i, 2);
+      if (b.type < 1)
+        throw InputError("bond type out of range")
+            .source(source)
+            .key(fmt::format("bonds[{}]", i))
+            .value(std::to_string(b.type))
+            .expected("bond types 1..nbondtypes");
+      a.bonds.push_back(b);
+    }
+  }
   const int top = n ? *std::max_element(a.type.begin(), a.type.end()) : 0;
   a.ntypes = std::max<int>(top, a.type_mass.empty() ? 0 : static_cast<int>(a.type_mass.size()) - 1);
   atomistic::sort_by_id(a, source);
@@ -238,17 +260,13 @@ struct BodyHandle {
 };
 using BodyPtr = std::shared_ptr<BodyHandle>;
 
-/// Evaluates at the reference (y empty) or at deformed positions; returns energy, forces, ψ.
-struct EvalResult {
-  double energy = 0.0;
-  std::vector<double> forces, psi, point_energies;
-};
-
-EvalResult evaluate(BodyHandle& h, const std::vector<double>& y,
-                    const std::optional<Eigen::Matrix3d>& hy) {
+/// Evaluates at the reference (y empty) or at deformed positions y (3N, a view of the caller's
+/// array); writes forces (3N) and ψ (N) into the caller's arrays (one copy out of the
+/// evaluator's work arrays, which the next evaluation reuses). Called without the GIL.
+double evaluate(BodyHandle& h, std::span<const double> y, const std::optional<Eigen::Matrix3d>& hy,
+                double* forces, double* psi, std::vector<double>* point_energies) {
   std::lock_guard lock(h.mutex);
   if (!h.evaluator) h.evaluator = std::make_unique<body::Evaluator>(*h.body);
-  EvalResult r;
   body::Evaluation e;
   if (y.empty())
     e = h.evaluator->reference();
@@ -256,11 +274,10 @@ EvalResult evaluate(BodyHandle& h, const std::vector<double>& y,
     e = h.evaluator->deformed(y, *hy);
   else
     e = h.evaluator->deformed(y);
-  r.energy = e.energy;
-  r.forces.assign(e.forces.begin(), e.forces.end());
-  r.psi.assign(e.psi.begin(), e.psi.end());
-  if (h.body->homogenisation) r.point_energies = h.evaluator->point_energies();
-  return r;
+  std::copy(e.forces.begin(), e.forces.end(), forces);
+  std::copy(e.psi.begin(), e.psi.end(), psi);
+  if (h.body->homogenisation) *point_energies = h.evaluator->point_energies();
+  return e.energy;
 }
 
 /// The number of atom types of a configuration: declared (data file), else the largest type.
@@ -492,10 +509,11 @@ Positions are unwrapped when the file gives image flags (docs/atomistic-input.md
            py::arg("lo"), py::arg("hi"), py::arg("tilt") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("periodic") = py::make_tuple(true, true, true),
            py::arg("type_mass") = py::none(), py::arg("masses") = py::none(),
-           py::arg("source") = "<python>",
+           py::arg("source") = "<python>", py::arg("bonds") = py::none(),
            "Atoms from arrays: ids (N), types (N, 1-based), positions (N, 3), the LAMMPS box "
            "(lo, hi, tilt xy xz yz), periodic flags, masses per type (type_mass[t-1]) or per atom. "
-           "Sorted by id; InputError for duplicate ids, non-finite positions, types < 1.")
+           "Sorted by id; InputError for duplicate ids, non-finite positions, types < 1. `bonds`: "
+           "molecular bonds (M, 3): bond type, atom id 1, atom id 2.")
       .def_property_readonly("ids",
                              [](const AtomsPtr& h) {
                                return view(h, h->atoms.id.data(),
@@ -535,6 +553,21 @@ Positions are unwrapped when the file gives image flags (docs/atomistic-input.md
       .def_property_readonly(
           "box", [](const AtomsPtr& h) { return box_dict(h->atoms.box); },
           "The LAMMPS box: lo, hi, tilt (xy, xz, yz), periodic, h = [a b c].")
+      .def_property_readonly(
+          "bonds",
+          [](const AtomsPtr& h) {
+            py::array_t<std::int64_t> b(
+                {static_cast<py::ssize_t>(h->atoms.bonds.size()), py::ssize_t{3}});
+            auto r = b.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < h->atoms.bonds.size(); ++i) {
+              const auto k = static_cast<py::ssize_t>(i);
+              r(k, 0) = h->atoms.bonds[i].type;
+              r(k, 1) = h->atoms.bonds[i].atom1;
+              r(k, 2) = h->atoms.bonds[i].atom2;
+            }
+            return b;
+          },
+          "Molecular bonds (M, 3): type, atom id 1, atom id 2 (a copy).")
       .def_property_readonly("timestep", [](const AtomsPtr& h) { return h->atoms.timestep; })
       .def_property_readonly("ntypes", [](const AtomsPtr& h) { return atom_types(*h); })
       .def_property_readonly("source", [](const AtomsPtr& h) { return h->source; })
@@ -671,32 +704,35 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
       .def(
           "_evaluate",
           [](const BodyPtr& h, py::object positions, py::object box_h) {
-            std::vector<double> y;
             std::optional<Eigen::Matrix3d> hy;
             const auto n = static_cast<py::ssize_t>(h->body->size());
+            py::array_t<double, py::array::c_style | py::array::forcecast> a;
+            std::span<const double> y;
             if (!positions.is_none()) {
-              auto a = rows3(positions, "positions");
+              a = rows3(positions, "positions");  // a view when already C-contiguous doubles
               if (a.shape(0) != n)
                 throw InputError("deformed positions do not match the body")
                     .key("positions")
                     .value(fmt::format("{} rows", a.shape(0)))
                     .expected(fmt::format("{} rows, in the order of Body.ids", n));
-              y.assign(a.data(), a.data() + 3 * n);
+              y = {a.data(), static_cast<std::size_t>(3 * n)};
             } else if (!box_h.is_none()) {
               throw InputError("a deformed box needs deformed positions").key("h");
             }
             if (!box_h.is_none()) hy = mat3(box_h, "h");
-            EvalResult r;
+            py::array_t<double> f({n, py::ssize_t{3}}), psi(n);
+            double* fp = f.mutable_data();
+            double* pp = psi.mutable_data();
+            std::vector<double> pe;
+            double energy = 0.0;
             {
-              py::gil_scoped_release release;
-              r = evaluate(*h, y, hy);
+              py::gil_scoped_release release;  // `a` keeps the positions alive meanwhile
+              energy = evaluate(*h, y, hy, fp, pp, &pe);
             }
-            py::object pe = py::none();
-            if (!r.point_energies.empty())
-              pe = copy_of<double>(r.point_energies,
-                                   {static_cast<py::ssize_t>(r.point_energies.size())});
-            return py::make_tuple(r.energy, copy_of<double>(r.forces, {n, 3}),
-                                  copy_of<double>(r.psi, {n}), pe);
+            py::object pe_out = py::none();
+            if (h->body->homogenisation)
+              pe_out = copy_of<double>(pe, {static_cast<py::ssize_t>(pe.size())});
+            return py::make_tuple(energy, f, psi, pe_out);
           },
           py::arg("positions") = py::none(), py::arg("h") = py::none())
       .def(

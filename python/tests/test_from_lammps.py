@@ -109,3 +109,36 @@ def test_wrong_coefficients_refused(lmp):
         pdcg.from_lammps(lmp, commands="units metal\npair_style lj/cut 2.5\npair_coeff 1 1 1 1")
     with pytest.raises(pdcg.InputError, match="cannot be read through LAMMPS's library"):
         pdcg.from_lammps(lmp)
+
+
+def test_bead_spring_chains_with_bonds(lmp):
+    """Molecular bonds come from the instance (gather_bonds): LJ beads with harmonic bonds and
+    LAMMPS's default special_bonds 0 0 0 (bonded pairs have no LJ term)."""
+    lmp.commands_string("""units lj
+atom_style bond
+boundary p p p
+region b block 0 12 0 12 0 12
+create_box 1 b bond/types 1 extra/bond/per/atom 2 extra/special/per/atom 4
+mass 1 1.0
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0
+bond_style harmonic
+bond_coeff 1 100.0 1.0
+""")
+    rng = np.random.default_rng(2)
+    x = [[1.0 + 1.0 * i + rng.uniform(-0.05, 0.05), 2.0 + 2.5 * c, 3.0 + rng.uniform(-0.05, 0.05)]
+         for c in range(4) for i in range(10)]
+    lmp.create_atoms(40, list(range(1, 41)), [1] * 40, np.ravel(x).tolist())
+    for c in range(4):
+        for i in range(9):
+            lmp.command(f"create_bonds single/bond 1 {10 * c + i + 1} {10 * c + i + 2}")
+    body = pdcg.from_lammps(lmp, commands="units lj\natom_style bond\nmass 1 1.0\n"
+                            "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+                            "bond_style harmonic\nbond_coeff 1 100.0 1.0\n")
+    f = lammps_forces(lmp)
+    assert np.abs(f).max() > 1.0
+    assert np.abs(body.forces() - f).max() < TOL
+    # a missing bond_style is refused by the style check, before any evaluation
+    with pytest.raises(pdcg.InputError, match="bond_style: the commands and the LAMMPS instance"):
+        pdcg.from_lammps(lmp, commands="units lj\nmass 1 1.0\npair_style lj/cut 2.5\n"
+                                       "pair_coeff 1 1 1.0 1.0\n")
