@@ -82,3 +82,38 @@ def test_unmapped_species_refused():
     rotated.rotate(30, "z", rotate_cell=True)
     with pytest.raises(pdcg.InputError, match="not in LAMMPS's form"):
         pdcg.from_ase(rotated, commands=CUNI)
+
+
+def test_triclinic_equals_lammps(lmp):
+    """A sheared cell in LAMMPS's form (tilts within LAMMPS's half-length limit): positions,
+    tilt and forces as LAMMPS has them for the same box."""
+    a = bulk("Cu", "fcc", a=3.615, cubic=True).repeat((3, 3, 3))
+    L = a.cell.array[0, 0]
+    a.set_cell([[L, 0, 0], [0.2 * L, L, 0], [0.1 * L, -0.15 * L, L]], scale_atoms=True)
+    a.positions += np.random.default_rng(1).uniform(-0.05, 0.05, a.positions.shape)
+    body = pdcg.from_ase(a, commands=CU)
+    c = a.cell.array
+    assert body.box["tilt"] == (c[1, 0], c[2, 0], c[2, 1]) and c[1, 0] > 0
+    lmp.commands_string(f"""units metal
+atom_style atomic
+boundary p p p
+region b prism 0 {c[0,0]!r} 0 {c[1,1]!r} 0 {c[2,2]!r} {c[1,0]!r} {c[2,0]!r} {c[2,1]!r}
+create_box 1 b
+""")
+    lmp.create_atoms(len(a), list(range(1, len(a) + 1)), [1] * len(a),
+                     a.positions.ravel().tolist())
+    lmp.commands_string("pair_style eam\npair_coeff * * Cu_u3.eam\n")
+    f = lammps_forces(lmp)
+    assert np.abs(f).max() > 0.1
+    assert np.abs(body.forces() - f).max() < TOL
+
+
+def test_masses_from_ase_when_nothing_else_gives_them():
+    # lj/cut sets no masses and the commands have no `mass`: ASE's standard mass of Ar
+    ar = ase.Atoms("Ar2", positions=[[0, 0, 0], [3.8, 0, 0]])
+    body = pdcg.from_ase(ar, commands="units metal\npair_style lj/cut 8.0\n"
+                                      "pair_coeff 1 1 0.0104 3.4")
+    np.testing.assert_array_equal(body.masses, ar.get_masses())
+    # the potential file's mass (Cu_u3.eam: 63.55) wins over ASE's standard 63.546
+    cu = pdcg.from_ase(bulk("Cu", "fcc", a=3.615, cubic=True), commands=CU)
+    assert cu.masses[0] == 63.55

@@ -40,7 +40,7 @@ def test_cuni_eam_alloy_triclinic(lmp):
 atom_style atomic
 boundary p p p
 lattice fcc 3.58
-region b prism 0 3 0 3 0 3 0.5 0.0 0.0
+region b prism 0 3 0 3 0 3 1.0 0.0 0.0
 create_box 2 b
 create_atoms 1 region b
 set type 1 type/fraction 2 0.4 8
