@@ -20,6 +20,7 @@
 #include <numbers>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
