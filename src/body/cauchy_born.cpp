@@ -280,9 +280,9 @@ void CauchyBorn::family_shifted(std::size_t slot, const Eigen::Matrix3d& F, cons
     s.nt[bb] = body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
     const int c = site[1 + b];
     for (int i = 0; i < 3; ++i)
-      s.Y[3 * bb + static_cast<std::size_t>(i)] =
-          F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2] +
-          shift[3 * c + i] - shift[3 * a + i];
+      s.Y[3 * bb + static_cast<std::size_t>(i)] = F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] +
+                                                  F(i, 2) * xi[3 * b + 2] + shift[3 * c + i] -
+                                                  shift[3 * a + i];
   }
   atomistic::FamilyState f;
   f.type = body_.type[static_cast<std::size_t>(k)];
@@ -340,8 +340,8 @@ void CauchyBorn::family_shifted(std::size_t slot, const Eigen::Matrix3d& F, cons
           const double v = w * mb[3 * (3 * i + kk) + L];
           for (int J = 0; J < 3; ++J) out.A[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * v;
           // A_sF: ∂g_q,i/∂F_kL = Σ_b d_b,q Σ_c K_bc,ik ξ_c,L
-          out.Asf[static_cast<std::size_t>(3 * cb + i) * 9 + static_cast<std::size_t>(3 * kk + L)] +=
-              v;
+          out.Asf[static_cast<std::size_t>(3 * cb + i) * 9 +
+                  static_cast<std::size_t>(3 * kk + L)] += v;
           out.Asf[static_cast<std::size_t>(3 * a + i) * 9 + static_cast<std::size_t>(3 * kk + L)] -=
               v;
         }
@@ -406,8 +406,7 @@ CauchyBornState CauchyBorn::evaluate_relaxed(const Eigen::Matrix3d& F, bool tang
           "W_ss {:.3g} (largest {:.3g}; ≤ 0: the basis is unstable at this F, the crystal would "
           "transform). Use a smaller deformation, or the clamped-ion material "
           "(`pdcg elastic --clamped-ion`)",
-          matrix_text(F), it, step.cwiseAbs().maxCoeff(), length,
-          lmin, lmax));
+          matrix_text(F), it, step.cwiseAbs().maxCoeff(), length, lmin, lmax));
     // backtracking line search on the energy (Armijo 1e-4; the 1e-13·|E| allowance is the
     // round-off of the energy sum, reached only in the quadratic regime where the full step
     // is right)

@@ -25,12 +25,12 @@
 ///   P = ∂W/∂F at s* (envelope theorem),  A = A_FF − A_Fs A_ss⁻¹ A_sF (Schur complement).
 /// Bravais lattices have nothing to relax (the clamped formulas above, bitwise); lattices
 /// whose every atom is a centre of inversion (B2, L1₂) relax to s* = 0 (round-off).
-/// IonRelaxation::clamped keeps every atom at F ξ (the clamped-ion values). Bodies in dimension 2 lie in the xy plane: the 3×3
-/// formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the plane-strain reduction, and V₀ is the
-/// reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k w_kp ψ_k(Fξ) per point; the body's
-/// W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the delta body's W since Σ_p w_kp = 1).
-/// Rescaled bodies use the ε-wrapped potential on the scaled bonds (W_ε(F) = W(F), docs/theory.md
-/// §4). Statistical bodies are not supported (InputError).
+/// IonRelaxation::clamped keeps every atom at F ξ (the clamped-ion values). Bodies in dimension 2
+/// lie in the xy plane: the 3×3 formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the
+/// plane-strain reduction, and V₀ is the reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k
+/// w_kp ψ_k(Fξ) per point; the body's W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the
+/// delta body's W since Σ_p w_kp = 1). Rescaled bodies use the ε-wrapped potential on the scaled
+/// bonds (W_ε(F) = W(F), docs/theory.md §4). Statistical bodies are not supported (InputError).
 #pragma once
 
 #include <Eigen/Core>
@@ -112,8 +112,8 @@ class CauchyBorn {
               double* p9, double* a81) const;
   /// Inner relaxation: sums of w·(ψ, P, A_FF, ∂/∂s, A_sF, A_ss) over the classes at shifts s.
   struct RelaxSums;
-  void family_shifted(std::size_t slot, const Eigen::Matrix3d& F, const double* shift,
-                      bool tangent, Scratch& s, RelaxSums& out) const;
+  void family_shifted(std::size_t slot, const Eigen::Matrix3d& F, const double* shift, bool tangent,
+                      Scratch& s, RelaxSums& out) const;
   void relaxed_sums(const Eigen::Matrix3d& F, const double* shift, bool tangent, Scratch& s,
                     RelaxSums& out) const;
   CauchyBornState evaluate_relaxed(const Eigen::Matrix3d& F, bool tangent) const;

@@ -14,8 +14,8 @@
 /// (IonRelaxation::automatic: relaxed W, P, A; a body that is not a perfect crystal is
 /// clamped-ion with a warning). The per-point material is clamped-ion (warning for a crystal
 /// whose basis would relax). Limits: one material for the whole body (body-level W); the
-/// per-point form W_p of a homogenised body is CauchyBorn::points. Each evaluation costs one family per distinct atomic
-/// environment (one for a perfect Bravais crystal).
+/// per-point form W_p of a homogenised body is CauchyBorn::points. Each evaluation costs one family
+/// per distinct atomic environment (one for a perfect Bravais crystal).
 #pragma once
 
 #include <fmt/format.h>
