@@ -376,6 +376,7 @@ CauchyBornState CauchyBorn::evaluate_relaxed(const Eigen::Matrix3d& F, bool tang
   constexpr int max_iterations = 100;
   int it = 0;
   double lmin = 0, lmax = 0;
+  bool final_step = false;
   for (;; ++it) {
     relaxed_sums(F, shift.data(), true, scratch, sums);
     for (int r = 0; r < nf; ++r) {
@@ -396,9 +397,16 @@ CauchyBornState CauchyBorn::evaluate_relaxed(const Eigen::Matrix3d& F, bool tang
     const Eigen::VectorXd lam =
         es.eigenvalues().cwiseAbs().cwiseMax(lmin > 1e-10 * lmax ? 0.0 : 1e-8 * lmax);
     step = -es.eigenvectors() * (es.eigenvectors().transpose() * g).cwiseQuotient(lam);
-    // converged: the Newton step is below 1e-12 d_nn (quadratic convergence: the next one
-    // would be ~1e-24 d_nn; P is then exact to ~|A_Fs|·1e-12 d_nn)
-    if (lmin > 1e-10 * lmax && step.cwiseAbs().maxCoeff() <= 1e-12 * length) break;
+    // converged: W_ss positive definite and the Newton step ≤ 1e-10 d_nn — it is taken (no line
+    // search) and the state evaluated there; quadratic convergence leaves ~(1e-10)² d_nn, far
+    // below the round-off floor of the shifts (~1e-15 d_nn)
+    if (lmin > 1e-10 * lmax && step.cwiseAbs().maxCoeff() <= 1e-10 * length) {
+      if (final_step || step.cwiseAbs().maxCoeff() <= 1e-14 * length) break;  // (round-off)
+      final_step = true;
+      for (int f = 0; f < nf; ++f) shift[free_index(f)] += step(f);
+      continue;
+    }
+    final_step = false;
     if (it >= max_iterations)
       throw NumericalError(fmt::format(
           "inner relaxation of the Cauchy–Born material did not converge at F = [{}]: {} Newton "

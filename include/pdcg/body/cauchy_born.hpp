@@ -186,7 +186,7 @@ double pair_inflection_stretch(const atomistic::Potential& potential, int type_i
 double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direction,
                              double max_stretch = 1.6, int steps = 60);
 
-/// What the clamped-ion Cauchy–Born assumption (every atom follows F, no inner relaxation)
+/// What the clamped-ion Cauchy–Born material (IonRelaxation::clamped: every atom follows F)
 /// means for a body of this lattice: empty when it is exact (a perfect Bravais lattice, or a
 /// perfect crystal whose every atom is a centre of inversion: B2, L1₂, NaCl); otherwise one
 /// message naming the lattice, that W, P and C are the clamped-ion (unrelaxed) values, and what
@@ -199,7 +199,8 @@ struct LatticeNote {
 LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice);
 /// The note for a material of mode `ion` (what evaluate() returns): empty for relaxed values
 /// of a perfect crystal; clamped values of a crystal whose basis would relax: a warning naming
-/// them as requested clamped-ion values; not a perfect crystal: the note above.
+/// them as requested clamped-ion values; not a perfect crystal (any mode): a warning that inner
+/// relaxation is unavailable and the values are those of the atoms held at Fξ.
 LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice, IonRelaxation ion);
 
 }  // namespace pdcg::body

@@ -331,3 +331,86 @@ TEST(CauchyBornRelaxed, PerPointSumsAreClampedOnly) {
   const CauchyBornMaterial bl(std::make_shared<const Body>(m.body));
   EXPECT_TRUE(bl.cauchy_born().relaxing());
 }
+
+// The solver's body-level material (`model: cauchy-born` in a scene) is the relaxed one, in 3D
+// (diamond Si) and in 2D (a graphene sheet, BNC.tersoff C, body of dimension 2: in-plane
+// shifts, plane strain): its P and A are the relaxed CauchyBorn's, its A matches central
+// differences of its own P, and it differs from the clamped material.
+TEST(CauchyBornRelaxed, SolverMaterialIsRelaxedIn2DAnd3D) {
+  // honeycomb, bond d: rectangular cell 3d × √3d with 4 atoms
+  const double d = 1.44, sq3 = std::sqrt(3.0);
+  Atoms sheet;
+  const int nx = 4, ny = 6;
+  sheet.box.hi = {nx * 3 * d, ny * sq3 * d, 10.0};
+  const double f[4][2] = {{0, 0}, {1.0 / 3.0, 0}, {0.5, 0.5}, {5.0 / 6.0, 0.5}};
+  std::int64_t id = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (const auto& s : f) {
+        sheet.id.push_back(++id);
+        sheet.type.push_back(1);
+        sheet.x.push_back((i + s[0]) * 3 * d);
+        sheet.x.push_back((j + s[1]) * sq3 * d);
+        sheet.x.push_back(0.0);
+      }
+  Model g;
+  g.spec = atomistic::read_potential_commands_from_string(
+      "units metal\nmass 1 12.011\npair_style tersoff\npair_coeff * * " +
+          potential_path("BNC.tersoff") + " C\n",
+      "relax-test", 1);
+  g.pot = atomistic::make_potential(g.spec);
+  g.atoms = sheet;
+  g.body = make_delta_body(g.atoms, g.pot, g.spec, {.dimension = 2, .cutoff = 0.0, .source = "g"});
+  const Model si = model(sw_cmds(), diamond(2, 5.431));
+  const Model& gc = g;
+  for (const auto& [m, name] : {std::pair{&si, "3D diamond Si"}, std::pair{&gc, "2D graphene"}}) {
+    const CauchyBornMaterial mat(std::make_shared<const Body>(m->body));
+    ASSERT_TRUE(mat.cauchy_born().relaxing()) << name;
+    const CauchyBorn rel(m->body), cl(m->body, IonRelaxation::clamped);
+    solver::Mat3 F = general_F();
+    if (m->body.dimension == 2) {
+      F.row(2) = Eigen::RowVector3d(0, 0, 1);
+      F.col(2) = Eigen::Vector3d(0, 0, 1);
+    }
+    double psi = 0;
+    solver::Mat3 P;
+    solver::Tangent A;
+    ASSERT_TRUE(mat.evaluate(F, &psi, &P, &A)) << name;
+    const CauchyBornState r = rel.evaluate(F), c = cl.evaluate(F);
+    const int nd = m->body.dimension;
+    if (nd == 2) {  // the relaxed sheet keeps its atoms in the plane
+      for (std::size_t q = 0; q < r.shift.size(); q += 3) EXPECT_EQ(r.shift[q + 2], 0.0) << name;
+    }
+    EXPECT_NEAR(psi, r.W, 1e-14 * std::abs(r.W)) << name;  // same numbers (warm start: round-off)
+    double dP = 0, dPc = 0, pmax = 0, eA = 0, amax = 0;
+    for (int i = 0; i < nd; ++i)
+      for (int J = 0; J < nd; ++J) {
+        dP = std::max(dP, std::abs(P(i, J) - r.P(i, J)));
+        dPc = std::max(dPc, std::abs(P(i, J) - c.P(i, J)));
+        pmax = std::max(pmax, std::abs(r.P(i, J)));
+      }
+    // A of the material vs central FD of the material's P (in-plane block), h = 1e-6
+    const double h = 1e-6;
+    for (int k = 0; k < nd; ++k)
+      for (int L = 0; L < nd; ++L) {
+        solver::Mat3 Fp = F, Fm = F, Pp, Pm;
+        Fp(k, L) += h;
+        Fm(k, L) -= h;
+        ASSERT_TRUE(mat.evaluate(Fp, nullptr, &Pp, nullptr));
+        ASSERT_TRUE(mat.evaluate(Fm, nullptr, &Pm, nullptr));
+        for (int i = 0; i < nd; ++i)
+          for (int J = 0; J < nd; ++J) {
+            const double fd = (Pp(i, J) - Pm(i, J)) / (2 * h);
+            eA = std::max(eA, std::abs(fd - A(3 * i + J, 3 * k + L)));
+            amax = std::max(amax, std::abs(A(3 * i + J, 3 * k + L)));
+          }
+      }
+    std::printf(
+        "  [%s] material P vs relaxed CB %.1e, vs clamped %.1e (of max|P| %.3g); A vs FD of "
+        "P %.1e relative\n",
+        name, dP, dPc, pmax, eA / amax);
+    EXPECT_LT(dP, 1e-12 * pmax) << name;  // the relaxed CauchyBorn's P (warm start: round-off)
+    EXPECT_GT(dPc, 1e-3 * pmax) << name;  // and not the clamped one
+    EXPECT_LT(eA / amax, 1e-6) << name;   // acceptance for tangents
+  }
+}
