@@ -414,3 +414,26 @@ TEST(CauchyBornRelaxed, SolverMaterialIsRelaxedIn2DAnd3D) {
     EXPECT_LT(eA / amax, 1e-6) << name;   // acceptance for tangents
   }
 }
+
+// A deformation where the relaxation cannot be carried out (atoms on top of each other: the LJ
+// energy overflows) is a NumericalError naming F and the fix; the solver material reports the
+// state inadmissible (false) instead of a NaN stress.
+TEST(CauchyBornRelaxed, FailedRelaxationIsDiagnosed) {
+  const Model m = model(lj_cmds, hcp(5, 3, 3, 1.09));
+  const CauchyBorn cb(m.body);
+  ASSERT_TRUE(cb.relaxing());
+  Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+  F(0, 0) = 1e-40;  // det F > 0, but atoms along x collapse: r⁻¹² overflows
+  try {
+    (void)cb.evaluate(F);
+    FAIL() << "no error";
+  } catch (const NumericalError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("inner relaxation"), std::string::npos) << w;
+    EXPECT_NE(w.find("non-finite"), std::string::npos) << w;
+    EXPECT_NE(w.find("--clamped-ion"), std::string::npos) << w;
+  }
+  const CauchyBornMaterial mat(std::make_shared<const Body>(m.body));
+  solver::Mat3 P;
+  EXPECT_FALSE(mat.evaluate(F, nullptr, &P, nullptr));
+}
