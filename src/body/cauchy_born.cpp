@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -14,7 +16,9 @@
 
 namespace pdcg::body {
 
-CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
+CauchyBorn::CauchyBorn(const Body& body, IonRelaxation ion) : body_(body) {
+  static std::atomic<std::uint64_t> next_id{1};
+  id_ = next_id.fetch_add(1);
   if (body.statistics)
     throw InputError("Cauchy–Born material of a statistical body is not supported")
         .key("kind")
@@ -32,7 +36,20 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
         .expected("a box whose first `dimension` edges span a positive measure")
         .fix("give the configuration a box (periodic for a perfect crystal)");
   lattice_ = detect_lattice(body);
-  if (const auto note = cauchy_born_lattice_note(lattice_); !note.text.empty()) {
+  if (ion == IonRelaxation::relaxed && !lattice_.perfect)
+    throw InputError("relaxed-ion Cauchy–Born needs a perfect crystal")
+        .key("ion relaxation")
+        .value(lattice_.summary)
+        .expected(
+            "a perfect periodic crystal (every atom one of equally populated environments: no "
+            "vacancy, surface, displaced atom or random occupation)")
+        .fix(
+            "ask for the clamped-ion values (`pdcg elastic --clamped-ion`), or build the body "
+            "from a perfect periodic cell (a random alloy: a periodic cell of ≤ 64 atoms is "
+            "relaxed as a whole)");
+  relax_ = ion != IonRelaxation::clamped && lattice_.perfect && lattice_.basis > 1;
+  relaxed_values_ = ion != IonRelaxation::clamped && lattice_.perfect;
+  if (const auto note = cauchy_born_lattice_note(lattice_, ion); !note.text.empty()) {
     if (note.warning)
       log::warn("{}", note.text);
     else
@@ -48,7 +65,7 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
          b < static_cast<std::size_t>(fam.offset[k + 1]); ++b)
       scale = std::max(scale, atomistic::bond_vector(fam, body.x, k, b).cwiseAbs().maxCoeff());
   const double tol = 1e-10 * std::max(scale, 1e-300);
-  using Key = std::vector<std::tuple<long long, long long, long long, int, double, int>>;
+  using Key = std::vector<std::tuple<long long, long long, long long, int, double, int, int>>;
   std::map<std::pair<int, Key>, std::int32_t> classes;
   representative_.resize(body.size());
   multiplicity_.assign(body.size(), 0);
@@ -61,11 +78,14 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
                        std::llround(xi[2] / tol),
                        body.type[static_cast<std::size_t>(fam.neighbor[bb])],
                        fam.pair_factor.empty() ? 1.0 : fam.pair_factor[bb],
-                       fam.bond_type.empty() ? 0 : fam.bond_type[bb]);
+                       fam.bond_type.empty() ? 0 : fam.bond_type[bb],
+                       relax_ ? lattice_.class_of[static_cast<std::size_t>(fam.neighbor[bb])] : 0);
     }
     std::sort(key.begin(), key.end());
+    // relaxing: the atom's own site is part of its class (members move with one shift)
+    const int tk = relax_ ? body.type[k] + 1000000 * lattice_.class_of[k] : body.type[k];
     const auto [it, fresh] =
-        classes.emplace(std::make_pair(body.type[k], std::move(key)), static_cast<std::int32_t>(k));
+        classes.emplace(std::make_pair(tk, std::move(key)), static_cast<std::int32_t>(k));
     representative_[k] = it->second;
     ++multiplicity_[static_cast<std::size_t>(it->second)];
   }
@@ -89,6 +109,18 @@ CauchyBorn::CauchyBorn(const Body& body) : body_(body) {
     }
     rep_weight_[it->second] += wk[k];
     nmax_ = std::max(nmax_, fam.offset[k + 1] - fam.offset[k]);
+  }
+  if (relax_) {
+    // per class slot: its site, then the site of every family member (Y_b = Fξ_b + s_c(j) − s_c(k))
+    rep_sub_offset_.assign(1, 0);
+    for (const auto r : reps_) {
+      const auto k = static_cast<std::size_t>(r);
+      rep_sub_.push_back(lattice_.class_of[k]);
+      for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b)
+        rep_sub_.push_back(
+            lattice_.class_of[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b)])]);
+      rep_sub_offset_.push_back(static_cast<std::int64_t>(rep_sub_.size()));
+    }
   }
   if (reps_.size() <= 64) {
     rep_xi_offset_.assign(1, 0);
@@ -204,6 +236,230 @@ void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, 
   }
 }
 
+namespace {
+std::string matrix_text(const Eigen::Matrix3d& F) {
+  std::string t;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) t.append(fmt::format("{}{:.9g}", r + c ? " " : "", F(r, c)));
+  return t;
+}
+}  // namespace
+
+struct CauchyBorn::RelaxSums {
+  double E = 0.0;
+  double P[9] = {}, A[81] = {};
+  std::vector<double> g, Asf, Ass;  ///< 3n_b; 3n_b × 9; 3n_b × 3n_b (row-major)
+  void reset(int nsub, bool tangent) {
+    const auto m = static_cast<std::size_t>(3 * nsub);
+    E = 0.0;
+    std::fill(P, P + 9, 0.0);
+    std::fill(A, A + 81, 0.0);
+    g.assign(m, 0.0);
+    Asf.assign(tangent ? 9 * m : 0, 0.0);
+    Ass.assign(tangent ? m * m : 0, 0.0);
+  }
+};
+
+void CauchyBorn::family_shifted(std::size_t slot, const Eigen::Matrix3d& F, const double* shift,
+                                bool tangent, Scratch& s, RelaxSums& out) const {
+  const auto& fam = body_.families;
+  const auto& pot = *body_.potential;
+  const std::int64_t k = reps_[slot];
+  const double w = rep_weight_[slot];
+  const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
+  const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
+  const double* xi = s.xi.data();
+  if (!rep_xi_offset_.empty())
+    xi = rep_xi_.data() + rep_xi_offset_[slot];
+  else
+    atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), s.xi.data());
+  const std::int32_t* site = rep_sub_.data() + rep_sub_offset_[slot];
+  const int a = site[0];  // own site; site[1 + b]: site of bond b's partner
+  for (std::int64_t b = 0; b < n; ++b) {
+    const auto bb = static_cast<std::size_t>(b);
+    s.nt[bb] = body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
+    const int c = site[1 + b];
+    for (int i = 0; i < 3; ++i)
+      s.Y[3 * bb + static_cast<std::size_t>(i)] = F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] +
+                                                  F(i, 2) * xi[3 * b + 2] + shift[3 * c + i] -
+                                                  shift[3 * a + i];
+  }
+  atomistic::FamilyState f;
+  f.type = body_.type[static_cast<std::size_t>(k)];
+  f.size = n;
+  f.neighbor_type = s.nt.data();
+  f.bond = s.Y.data();
+  f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
+  f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+  out.E += w * pot.force_state(f, s.t.data());
+  for (std::int64_t b = 0; b < n; ++b) {
+    const int c = site[1 + b];
+    for (int i = 0; i < 3; ++i) {
+      const double ti = w * s.t[static_cast<std::size_t>(3 * b + i)];
+      for (int J = 0; J < 3; ++J) out.P[3 * i + J] += ti * xi[3 * b + J];
+      out.g[static_cast<std::size_t>(3 * c + i)] += ti;  // ∂Y_b/∂s_c = +I, ∂Y_b/∂s_a = −I
+      out.g[static_cast<std::size_t>(3 * a + i)] -= ti;
+    }
+  }
+  if (!tangent) return;
+  pot.force_state_tangent(f, s.K.data(), s.work.data());
+  const auto m = static_cast<std::size_t>(3 * lattice_.basis);
+  std::fill(s.M.begin(), s.M.begin() + 27 * n, 0.0);
+  for (std::int64_t b = 0; b < n; ++b) {
+    double* mb = s.M.data() + 27 * b;
+    const int cb = site[1 + b];
+    for (std::int64_t c = 0; c < n; ++c) {
+      const double* kb = s.K.data() + 9 * (b * n + c);
+      if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 && kb[2] == 0.0 &&
+          kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
+        continue;  // pair potentials: only diagonal blocks
+      const double* xc = xi + 3 * c;
+      for (int ik = 0; ik < 9; ++ik)
+        for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
+      // A_ss: Σ_bc d_b,q d_c,q' K_bc (d_b = +1 at the partner's site, −1 at the own site)
+      const int cc = site[1 + c];
+      if (cb == a && cc == a) continue;  // both bonds within one site: no relative shift
+      const int rows[2] = {cb, a}, cols[2] = {cc, a};
+      for (int ri = 0; ri < 2; ++ri)
+        for (int ci = 0; ci < 2; ++ci) {
+          const double sg = w * ((ri == ci) ? 1.0 : -1.0);
+          for (int i = 0; i < 3; ++i)
+            for (int kk = 0; kk < 3; ++kk)
+              out.Ass[static_cast<std::size_t>(3 * rows[ri] + i) * m +
+                      static_cast<std::size_t>(3 * cols[ci] + kk)] += sg * kb[3 * i + kk];
+        }
+    }
+  }
+  for (std::int64_t b = 0; b < n; ++b) {
+    const double* mb = s.M.data() + 27 * b;
+    const double* xb = xi + 3 * b;
+    const int cb = site[1 + b];
+    for (int i = 0; i < 3; ++i)
+      for (int kk = 0; kk < 3; ++kk)
+        for (int L = 0; L < 3; ++L) {
+          const double v = w * mb[3 * (3 * i + kk) + L];
+          for (int J = 0; J < 3; ++J) out.A[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * v;
+          // A_sF: ∂g_q,i/∂F_kL = Σ_b d_b,q Σ_c K_bc,ik ξ_c,L
+          out.Asf[static_cast<std::size_t>(3 * cb + i) * 9 +
+                  static_cast<std::size_t>(3 * kk + L)] += v;
+          out.Asf[static_cast<std::size_t>(3 * a + i) * 9 + static_cast<std::size_t>(3 * kk + L)] -=
+              v;
+        }
+  }
+}
+
+void CauchyBorn::relaxed_sums(const Eigen::Matrix3d& F, const double* shift, bool tangent,
+                              Scratch& s, RelaxSums& out) const {
+  out.reset(lattice_.basis, tangent);
+  for (std::size_t c = 0; c < reps_.size(); ++c) family_shifted(c, F, shift, tangent, s, out);
+}
+
+CauchyBornState CauchyBorn::evaluate_relaxed(const Eigen::Matrix3d& F, bool tangent) const {
+  // Newton on the free shifts (sites 1 … n_b−1, components 0 … d−1: site 0 is held, which
+  // removes the rigid translation — the null space of W_ss; a 2D body shifts in its plane).
+  thread_local Scratch scratch;
+  thread_local RelaxSums sums, trial;
+  thread_local std::uint64_t warm_id = 0;  // warm start: this thread's last converged shifts
+  thread_local std::vector<double> warm;
+  scratch.size(nmax_, true);
+  const int nsub = lattice_.basis;
+  const int d = body_.dimension == 2 ? 2 : 3;
+  const int nf = d * (nsub - 1);
+  const auto m = static_cast<std::size_t>(3 * nsub);
+  std::vector<double> shift(m, 0.0), probe(m);
+  if (warm_id == id_ && warm.size() == m) shift = warm;
+  auto free_index = [&](int f) { return static_cast<std::size_t>(3 * (1 + f / d) + f % d); };
+  Eigen::MatrixXd H(nf, nf);
+  Eigen::VectorXd g(nf), step(nf);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
+  const double length = lattice_.nearest;
+  constexpr int max_iterations = 100;
+  int it = 0;
+  double lmin = 0, lmax = 0;
+  bool final_step = false;
+  for (;; ++it) {
+    relaxed_sums(F, shift.data(), true, scratch, sums);
+    for (int r = 0; r < nf; ++r) {
+      g(r) = sums.g[free_index(r)];
+      for (int c = 0; c < nf; ++c) H(r, c) = sums.Ass[free_index(r) * m + free_index(c)];
+    }
+    if (!std::isfinite(sums.E) || !g.allFinite() || !H.allFinite())
+      throw NumericalError(fmt::format(
+          "inner relaxation of the Cauchy–Born material: non-finite energy or force at F = [{}] "
+          "after {} Newton steps (atoms too close or beyond the potential's tables); use a "
+          "smaller deformation or the clamped-ion material (`pdcg elastic --clamped-ion`)",
+          matrix_text(F), it));
+    es.compute(H);
+    lmin = es.eigenvalues()(0);
+    lmax = std::max(std::abs(es.eigenvalues()(nf - 1)), 1e-300);
+    // Newton step on a positive definite W_ss; otherwise (not a minimum here) the step of the
+    // eigenvalues' magnitudes, floored at 1e-8·max (a descent direction), with the line search
+    const Eigen::VectorXd lam =
+        es.eigenvalues().cwiseAbs().cwiseMax(lmin > 1e-10 * lmax ? 0.0 : 1e-8 * lmax);
+    step = -es.eigenvectors() * (es.eigenvectors().transpose() * g).cwiseQuotient(lam);
+    // converged: W_ss positive definite and the Newton step ≤ 1e-10 d_nn — it is taken (no line
+    // search) and the state evaluated there; quadratic convergence leaves ~(1e-10)² d_nn, far
+    // below the round-off floor of the shifts (~1e-15 d_nn)
+    if (lmin > 1e-10 * lmax && step.cwiseAbs().maxCoeff() <= 1e-10 * length) {
+      if (final_step || step.cwiseAbs().maxCoeff() <= 1e-14 * length) break;  // (round-off)
+      final_step = true;
+      for (int f = 0; f < nf; ++f) shift[free_index(f)] += step(f);
+      continue;
+    }
+    final_step = false;
+    if (it >= max_iterations)
+      throw NumericalError(fmt::format(
+          "inner relaxation of the Cauchy–Born material did not converge at F = [{}]: {} Newton "
+          "steps, last step {:.3g} (nearest-neighbour distance {:.6g}), smallest eigenvalue of "
+          "W_ss {:.3g} (largest {:.3g}; ≤ 0: the basis is unstable at this F, the crystal would "
+          "transform). Use a smaller deformation, or the clamped-ion material "
+          "(`pdcg elastic --clamped-ion`)",
+          matrix_text(F), it, step.cwiseAbs().maxCoeff(), length, lmin, lmax));
+    // backtracking line search on the energy (Armijo 1e-4; the 1e-13·|E| allowance is the
+    // round-off of the energy sum, reached only in the quadratic regime where the full step
+    // is right)
+    const double slope = g.dot(step);
+    double alpha = 1.0;
+    for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
+      probe = shift;
+      for (int f = 0; f < nf; ++f) probe[free_index(f)] += alpha * step(f);
+      relaxed_sums(F, probe.data(), false, scratch, trial);
+      if (std::isfinite(trial.E) &&
+          trial.E <= sums.E + 1e-4 * alpha * slope + 1e-13 * std::abs(sums.E))
+        break;
+    }
+    shift.swap(probe);
+  }
+  warm_id = id_;
+  warm = shift;
+  CauchyBornState st;
+  const double V = body_.reference_volume();
+  st.W = sums.E / V;
+  for (int i = 0; i < 3; ++i)
+    for (int J = 0; J < 3; ++J) st.P(i, J) = sums.P[3 * i + J] / V;
+  st.shift = shift;
+  st.iterations = it;
+  if (!tangent) return st;
+  // A = A_FF − A_Fs A_ss⁻¹ A_sF on the free shifts (W_ss positive definite at the minimum)
+  Eigen::MatrixXd B(nf, 9);
+  for (int r = 0; r < nf; ++r)
+    for (int c = 0; c < 9; ++c) B(r, c) = sums.Asf[free_index(r) * 9 + static_cast<std::size_t>(c)];
+  const Eigen::MatrixXd X = es.eigenvectors().transpose() * B;
+  Eigen::MatrixXd corr = X.transpose() * es.eigenvalues().cwiseInverse().asDiagonal() * X;
+  for (int r = 0; r < 9; ++r)
+    for (int c = 0; c < 9; ++c) st.A(r, c) = (sums.A[9 * r + c] - corr(r, c)) / V;
+  return st;
+}
+
+void CauchyBorn::require_clamped(const char* what) const {
+  if (relax_)
+    throw InputError(fmt::format("{} of the Cauchy–Born material is clamped-ion only", what))
+        .key("ion relaxation")
+        .value(fmt::format("relaxed ({})", lattice_.summary))
+        .expected("a material constructed IonRelaxation::clamped")
+        .fix("use the body-level material (relaxed), or construct it clamped-ion");
+}
+
 void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
                           std::vector<double>& p, std::vector<double>& a) const {
   const auto& fam = body_.families;
@@ -314,6 +570,7 @@ void accumulate(CauchyBornState& s, double w, double psi, const double* p9, cons
 }  // namespace
 
 CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) const {
+  if (relax_) return evaluate_relaxed(F, tangent);
   if (reps_.size() <= 64) {
     // Few distinct environments (perfect crystals, their coarse models): one family per class,
     // weighted by Σ w_k over the class; serial and allocation-free after the first call of the
@@ -360,6 +617,7 @@ CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) con
 }
 
 CauchyBornState CauchyBorn::point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent) const {
+  if (relax_) require_clamped("the per-point sum");
   thread_local Scratch scratch;
   scratch.size(nmax_, tangent);
   CauchyBornState s;
@@ -379,6 +637,7 @@ std::vector<CauchyBornState> CauchyBorn::points(const Eigen::Matrix3d& F, bool t
         .key("kind")
         .value(std::string(to_string(body_.kind)))
         .fix("run `pdcg homogenize` first, or use the body-level material");
+  require_clamped("the per-point form");
   std::vector<double> psi, p, a;
   per_atom(F, tangent, psi, p, a);
   const auto& h = *body_.homogenisation;
@@ -614,6 +873,27 @@ double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direct
   return 0.0;
 }
 
+LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice, IonRelaxation ion) {
+  if (ion != IonRelaxation::clamped && lattice.perfect) return {};
+  if (ion == IonRelaxation::clamped && lattice.perfect && !lattice.bravais() &&
+      !lattice.centrosymmetric)
+    return {fmt::format(
+                "Cauchy–Born: {}, whose sites are not centres of inversion (as in diamond, hcp, "
+                "honeycomb): clamped-ion (unrelaxed) values requested — every atom follows F, "
+                "the basis is not relaxed, so W, P and the elastic constants are too stiff "
+                "(shear constants such as C44 most). The relaxed-ion values: `pdcg elastic` "
+                "without --clamped-ion, the body-level `model: cauchy-born` material",
+                lattice.summary),
+            true};
+  if (lattice.perfect) return {};
+  return {fmt::format("Cauchy–Born: {}: inner relaxation unavailable (it needs a perfect "
+                      "crystal): W, P and C are those of the atoms held at the affinely deformed "
+                      "positions — clamped-ion, no relaxation of basis, defect, surface or "
+                      "displaced atoms",
+                      lattice.summary),
+          true};
+}
+
 LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice) {
   if (lattice.bravais()) return {};
   if (lattice.perfect && lattice.centrosymmetric) return {};
@@ -622,8 +902,8 @@ LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice) {
                 "Cauchy–Born: {}, whose sites are not centres of inversion (as in diamond, hcp, "
                 "honeycomb): every atom follows F, the basis is not relaxed, so W, P and the "
                 "elastic constants are the clamped-ion (unrelaxed) values — too stiff, shear "
-                "constants such as C44 most. pdcg has no inner relaxation: use the relaxed "
-                "constants of LAMMPS (minimize the atoms at each strain) where they matter",
+                "constants such as C44 most. The relaxed-ion values: the default material "
+                "(IonRelaxation::automatic or relaxed), `pdcg elastic` without --clamped-ion",
                 lattice.summary),
             true};
   return {fmt::format("Cauchy–Born: {}: W, P and C are those of the atoms held at the affinely "

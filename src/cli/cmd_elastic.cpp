@@ -1,5 +1,6 @@
-/// `pdcg elastic BODY.h5 [--F "F11 … F33"] [--json] [--fit MAX_STRETCH] [--critical]`:
-/// Cauchy–Born elastic constants of a model file (docs/elastic.md): the Voigt matrix
+/// `pdcg elastic BODY.h5 [--F "F11 … F33"] [--json] [--fit MAX_STRETCH] [--critical]
+/// [--clamped-ion]`: Cauchy–Born elastic constants of a model file (docs/elastic.md): relaxed-ion
+/// by default (the basis of a crystal with a basis relaxed at F, §2.2), the Voigt matrix
 /// C_IJ = ∂²W/∂E_I∂E_J (Green–Lagrange strain, second Piola–Kirchhoff stress) at the pre-strain F,
 /// Voigt/Reuss bulk and shear moduli, optionally a neo-Hookean fit and critical stretches.
 #include <fmt/format.h>
@@ -18,7 +19,7 @@ namespace {
 
 struct Options {
   std::string body, F = "1 0 0 0 1 0 0 0 1";
-  bool json = false, critical = false;
+  bool json = false, critical = false, clamped = false;
   double fit = 0.0;
   int fit_steps = 4;
 };
@@ -60,7 +61,9 @@ int run(const Options& o) {
         .value(o.F)
         .expected(
             "F13 = F23 = F31 = F32 = 0 and F33 = 1 (bodies of dimension 2 lie in the xy plane)");
-  const body::CauchyBorn cb(b);
+  const body::IonRelaxation ion =
+      o.clamped ? body::IonRelaxation::clamped : body::IonRelaxation::relaxed;
+  const body::CauchyBorn cb(b, ion);  // relaxed: InputError unless a perfect crystal
   const body::CauchyBornState st = cb.evaluate(F);
   const body::Matrix6d C = body::voigt_elastic_constants(F, st);
   const body::Moduli mod = body::moduli(C, b.dimension);
@@ -82,7 +85,8 @@ int run(const Options& o) {
   const double gpa = energy_density_to_gpa(b.units);
   const bool has_gpa = std::isfinite(gpa);
   const LatticeInfo& lat = cb.lattice();
-  const LatticeNote note = cauchy_born_lattice_note(lat);
+  const LatticeNote note = cauchy_born_lattice_note(lat, ion);
+  const char* ion_name = cb.relaxed_values() ? "relaxed" : "clamped";
   if (o.json) {
     std::string out = fmt::format(
         "{{\"body\": \"{}\", \"kind\": \"{}\", \"dimension\": {}, \"units\": \"{}\", "
@@ -104,8 +108,16 @@ int run(const Options& o) {
       out.append(", \"to_GPa\": null, \"GPa\": null");
     out.append(
         fmt::format(", \"lattice\": {{\"perfect\": {}, \"basis\": {}, \"centrosymmetric\": {}, "
-                    "\"clamped_ion\": {}, \"summary\": \"{}\"}}",
-                    lat.perfect, lat.basis, lat.centrosymmetric, !note.text.empty(), lat.summary));
+                    "\"clamped_ion\": {}, \"summary\": \"{}\"}}, \"ion_relaxation\": \"{}\", "
+                    "\"relaxation_iterations\": {}",
+                    lat.perfect, lat.basis, lat.centrosymmetric, !note.text.empty(), lat.summary,
+                    ion_name, st.iterations));
+    if (!st.shift.empty()) {
+      Eigen::MatrixXd sh(lat.basis, 3);
+      for (int q = 0; q < lat.basis; ++q)
+        for (int i = 0; i < 3; ++i) sh(q, i) = st.shift[static_cast<std::size_t>(3 * q + i)];
+      out.append(fmt::format(", \"sublattice_shift\": {}", matrix_json(sh)));
+    }
     if (fit)
       out.append(fmt::format(
           ", \"neo_hookean\": {{\"mu\": {:.17g}, \"bulk\": {:.17g}, \"rms_error\": {:.17g}, "
@@ -124,6 +136,15 @@ int run(const Options& o) {
   std::printf("%s: %s body, dimension %d, units %s\n", o.body.c_str(),
               std::string(to_string(b.kind)).c_str(), b.dimension, u.c_str());
   std::printf("lattice: %s\n", lat.summary.c_str());
+  if (cb.relaxing())
+    std::printf(
+        "ion relaxation: relaxed (sublattice shifts minimise W at F: %d Newton steps; "
+        "--clamped-ion for the clamped values)\n",
+        st.iterations);
+  else if (cb.relaxed_values())
+    std::printf("ion relaxation: relaxed (Bravais lattice: nothing to relax)\n");
+  else
+    std::printf("ion relaxation: clamped (every atom follows F)\n");
   if (!note.text.empty())
     std::printf("%s: %s\n", note.warning ? "warning" : "note", note.text.c_str());
   if (has_gpa)
@@ -139,14 +160,15 @@ int run(const Options& o) {
   std::printf("W(F) = %.10g %s (energy/volume)\n", st.W, unit.c_str());
   std::printf("second Piola–Kirchhoff stress S = F⁻¹P [%s]:\n", unit.c_str());
   for (int r = 0; r < 3; ++r) std::printf("  %14.7g %14.7g %14.7g\n", S(r, 0), S(r, 1), S(r, 2));
-  std::printf("C_IJ = ∂²W/∂E_I∂E_J (Voigt 11 22 33 23 13 12) [%s]:\n", unit.c_str());
+  std::printf("C_IJ = ∂²W/∂E_I∂E_J, %s-ion (Voigt 11 22 33 23 13 12) [%s]:\n", ion_name,
+              unit.c_str());
   for (int r = 0; r < 6; ++r) {
     std::printf(" ");
     for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c));
     std::printf("\n");
   }
   if (has_gpa) {
-    std::printf("C_IJ [GPa]:\n");
+    std::printf("C_IJ [GPa], %s-ion:\n", ion_name);
     for (int r = 0; r < 6; ++r) {
       std::printf(" ");
       for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c) * gpa);
@@ -188,12 +210,15 @@ pdcg::cli::Registration reg(140, [](CLI::App& app) -> pdcg::cli::Runner {
                   "Neo-Hookean fit over uniaxial/biaxial/shear deformations up to this stretch");
   sub->add_option("--fit-steps", o->fit_steps,
                   "Stretch values per deformation mode in the fit (default 4)");
+  sub->add_flag("--clamped-ion", o->clamped,
+                "Clamped-ion constants: every atom follows F (default: relaxed-ion, the basis of "
+                "a crystal with a basis relaxed; needs a perfect crystal)");
   sub->add_flag(
       "--critical", o->critical,
       "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");
   sub->footer(
       "C is ∂²W/∂E∂E (Green–Lagrange strain E; at a stress-free F = I the usual elastic "
-      "constants).\n"
+      "constants), relaxed-ion by default (W minimised over sublattice shifts).\n"
       "Example:\n  pdcg elastic cu.h5 --json\n  pdcg elastic lj.h5 --F \"1.01 0 0 0 1 0 0 0 1\" "
       "--fit 1.1 --critical");
   return [o] { return run(*o); };

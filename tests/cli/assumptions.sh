@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Checkable assumptions are checked (docs/elastic.md §2.1, docs/dispersion.md, docs/cli.md):
-#  1. Bravais-lattice assumption: `pdcg elastic` on diamond Si (sw) warns that the constants are
-#     clamped-ion values (JSON lattice.basis = 2, clamped_ion = true); B2 (every atom a centre of
-#     inversion) and FCC give no warning. `pdcg dispersion --path` on hcp refuses (the
+#  1. Bravais-lattice assumption: `pdcg elastic --clamped-ion` on diamond Si (sw) warns that the
+#     constants are clamped-ion values (JSON lattice.basis = 2, clamped_ion = true); the default
+#     (relaxed-ion) gives no warning, nor does B2 (every atom a centre of inversion) or FCC. `pdcg dispersion --path` on hcp refuses (the
 #     neighbour-shell guess would call it fcc) and `--direction` on diamond warns that the
 #     optical branches are missing.
 #  2. `pdcg dispersion --path` on a lattice it cannot tell fails fast: a diamond Si body with a
@@ -64,8 +64,10 @@ printf 'units lj\nmass 1 1.0\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n' >
 "$pdcg" -q atoms2pd --input si.data --potential sw.pot -o si.h5 || exit 1
 "$pdcg" -q atoms2pd --input b2.data --potential b2.pot -o b2.h5 || exit 1
 "$pdcg" -q atoms2pd --input hcp.data --potential hcp.pot -o hcp.h5 || exit 1
-"$pdcg" elastic si.h5 > si.txt 2> si.err || fail=1
-"$pdcg" elastic si.h5 --json > si.json 2>/dev/null || fail=1
+"$pdcg" elastic si.h5 --clamped-ion > si.txt 2> si.err || fail=1
+"$pdcg" elastic si.h5 --clamped-ion --json > si.json 2>/dev/null || fail=1
+"$pdcg" elastic si.h5 --json > sir.json 2> sir.err || fail=1
+[ -s sir.err ] && { echo "relaxed elastic on diamond warned:"; cat sir.err; fail=1; }
 "$pdcg" elastic b2.h5 --json > b2.json 2> b2.err || fail=1
 grep -q "warning: Cauchy–Born: perfect crystal with a basis of 2 atoms per primitive cell.*clamped-ion (unrelaxed)" si.txt ||
   { echo "elastic on diamond: no clamped-ion warning"; cat si.txt; fail=1; }
@@ -73,6 +75,8 @@ grep -q "clamped-ion" si.err || { echo "elastic on diamond: no warning on stderr
 python3 - <<'PY' || fail=1
 import json
 si, b2 = json.load(open("si.json"))["lattice"], json.load(open("b2.json"))["lattice"]
+sir = json.load(open("sir.json"))
+assert sir["ion_relaxation"] == "relaxed" and not sir["lattice"]["clamped_ion"]
 print("  diamond:", si); print("  B2:", b2)
 assert si["perfect"] and si["basis"] == 2 and not si["centrosymmetric"] and si["clamped_ion"]
 assert b2["perfect"] and b2["basis"] == 2 and b2["centrosymmetric"] and not b2["clamped_ion"]

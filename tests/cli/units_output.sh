@@ -131,9 +131,9 @@ printf 'units real\nmass 1 39.948\npair_style lj/cut 8.5\npair_coeff 1 1 0.2381 
 "$pdcg" -q atoms2pd --input ar_p.data --potential ar.pot -o ar_p.h5 || exit 1
 "$pdcg" elastic cu_p.h5 --json > cu_p.json || fail=1
 "$pdcg" elastic ar_p.h5 --json > ar_p.json || fail=1
-"$pdcg" elastic lj.h5 --json > lj_el.json 2>/dev/null || fail=1
+"$pdcg" elastic lj.h5 --clamped-ion --json > lj_el.json 2>/dev/null || fail=1
 "$pdcg" elastic cu_p.h5 > cu_p.txt || fail=1
-"$pdcg" elastic lj.h5 > lj_el.txt 2>/dev/null || fail=1
+"$pdcg" elastic lj.h5 --clamped-ion > lj_el.txt 2>/dev/null || fail=1
 python3 - <<'PY' || fail=1
 import json
 ok = True

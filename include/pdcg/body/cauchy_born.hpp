@@ -17,14 +17,20 @@
 ///   A_iJkL = δ_ik S_JL + F_iM F_kN C_MJNL   ⇒   C_MJNL = F⁻¹_Mi F⁻¹_Nk (A_iJkL − δ_ik S_JL).
 /// At F = I: C = A − δ_ik S_JL (= A when the reference is stress free).
 ///
-/// Assumptions: no inner relaxation — every atom follows F (basis atoms of a non-Bravais
-/// lattice are not relaxed; FCC/BCC Bravais lattices, and any lattice whose atoms are all
-/// centres of inversion, are exact). Bodies in dimension 2 lie in the xy plane: the 3×3
-/// formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the plane-strain reduction, and V₀ is the
-/// reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k w_kp ψ_k(Fξ) per point; the body's
-/// W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the delta body's W since Σ_p w_kp = 1).
-/// Rescaled bodies use the ε-wrapped potential on the scaled bonds (W_ε(F) = W(F), docs/theory.md
-/// §4). Statistical bodies are not supported (InputError).
+/// Inner relaxation (docs/theory.md §11, docs/elastic.md §2.2): for a perfect crystal with a
+/// basis of n_b > 1 atoms per primitive cell (detect_lattice) the sublattices b = 1 … n_b−1 shift
+/// by s_b relative to sublattice 0 (held: removes the rigid translation, the null space of
+/// W_ss), every bond becomes Y_b = Fξ_b + s_{c(j)} − s_{c(k)}, and
+///   W(F) = min_s W(F, s)  (Newton on s with the analytic K, energy line search, warm start),
+///   P = ∂W/∂F at s* (envelope theorem),  A = A_FF − A_Fs A_ss⁻¹ A_sF (Schur complement).
+/// Bravais lattices have nothing to relax (the clamped formulas above, bitwise); lattices
+/// whose every atom is a centre of inversion (B2, L1₂) relax to s* = 0 (round-off).
+/// IonRelaxation::clamped keeps every atom at F ξ (the clamped-ion values). Bodies in dimension 2
+/// lie in the xy plane: the 3×3 formulas with F₃₃ = 1, F₁₃ = F₂₃ = F₃₁ = F₃₂ = 0 are the
+/// plane-strain reduction, and V₀ is the reference area. Homogenised bodies: W_p(F) = (1/V_p) Σ_k
+/// w_kp ψ_k(Fξ) per point; the body's W is Σ_p V_p W_p / V₀ = (1/V₀) Σ_k (Σ_p w_kp) ψ_k (= the
+/// delta body's W since Σ_p w_kp = 1). Rescaled bodies use the ε-wrapped potential on the scaled
+/// bonds (W_ε(F) = W(F), docs/theory.md §4). Statistical bodies are not supported (InputError).
 #pragma once
 
 #include <Eigen/Core>
@@ -43,18 +49,37 @@ struct CauchyBornState {
   double W = 0.0;                               ///< energy density
   Eigen::Matrix3d P = Eigen::Matrix3d::Zero();  ///< first Piola–Kirchhoff stress
   Matrix9d A = Matrix9d::Zero();  ///< ∂P/∂F (row 3i+J, col 3k+L); zero if not asked
+  /// Relaxed sublattice shifts s_b (3 per basis site, site 0 held at 0; in the body's length
+  /// unit) and the Newton iterations spent; empty / 0 without inner relaxation.
+  std::vector<double> shift;
+  int iterations = 0;
 };
+
+/// Inner (ion) relaxation of crystals with a basis (docs/elastic.md §2.2):
+///   relaxed   — the body must be a perfect crystal (detect_lattice); anything else is an
+///               InputError naming what was found (use clamped, or a perfect periodic cell);
+///   automatic — relaxed for a perfect crystal, clamped-ion (with a log line) otherwise;
+///   clamped   — every atom follows F (warning for a crystal whose basis would relax).
+enum class IonRelaxation { automatic, relaxed, clamped };
 
 class CauchyBorn {
  public:
-  /// Throws InputError for statistical bodies or bodies without families/volume.
-  explicit CauchyBorn(const Body& body);
+  /// Throws InputError for statistical bodies or bodies without families/volume, and (mode
+  /// relaxed) for a body that is not a perfect crystal.
+  explicit CauchyBorn(const Body& body, IonRelaxation ion = IonRelaxation::automatic);
+  /// True when evaluate() minimises over sublattice shifts (perfect crystal with a basis, mode
+  /// not clamped). False for Bravais lattices (nothing to relax) and clamped-ion material.
+  bool relaxing() const { return relax_; }
+  /// The values evaluate() returns are the relaxed-ion ones: relaxing(), or a perfect Bravais
+  /// lattice in a mode other than clamped (relaxation is a no-op there).
+  bool relaxed_values() const { return relaxed_values_; }
 
   /// W, P and (if `tangent`) A of the whole body at F.
   CauchyBornState evaluate(const Eigen::Matrix3d& F, bool tangent = true) const;
   /// Energy density only.
   double energy(const Eigen::Matrix3d& F) const { return evaluate(F, false).W; }
-  /// Per homogenised point p: W_p, P_p, A_p (InputError if the body is not homogenised).
+  /// Per homogenised point p: W_p, P_p, A_p (InputError if the body is not homogenised, or if
+  /// the material relaxes: per-point values are clamped-ion only — construct it clamped).
   std::vector<CauchyBornState> points(const Eigen::Matrix3d& F, bool tangent = true) const;
 
   /// Per-point sums of a nonhomogeneous body (surfaces, defects; docs/elastic.md §7): the
@@ -63,7 +88,8 @@ class CauchyBorn {
   ///   E_p(F) = Σ_k w_kp ψ_k(Fξ),  ∂E_p/∂F = Σ_k w_kp Σ_b t_b ⊗ ξ_b,  ∂²E_p/∂F∂F (as A),
   /// w_kp = 1 for k = p on a delta or rescaled body. Atoms of one environment class are
   /// evaluated once per point (interior points of a perfect crystal: one family). Serial,
-  /// thread-local work arrays: callable from the solver's OpenMP loops.
+  /// thread-local work arrays: callable from the solver's OpenMP loops. Clamped-ion: a
+  /// relaxing material (relaxing()) throws InputError — construct it IonRelaxation::clamped.
   std::size_t point_count() const { return pt_offset_.size() - 1; }
   CauchyBornState point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent = true) const;
 
@@ -84,7 +110,19 @@ class CauchyBorn {
   struct Scratch;
   void family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, Scratch& s, double& psi,
               double* p9, double* a81) const;
+  /// Inner relaxation: sums of w·(ψ, P, A_FF, ∂/∂s, A_sF, A_ss) over the classes at shifts s.
+  struct RelaxSums;
+  void family_shifted(std::size_t slot, const Eigen::Matrix3d& F, const double* shift, bool tangent,
+                      Scratch& s, RelaxSums& out) const;
+  void relaxed_sums(const Eigen::Matrix3d& F, const double* shift, bool tangent, Scratch& s,
+                    RelaxSums& out) const;
+  CauchyBornState evaluate_relaxed(const Eigen::Matrix3d& F, bool tangent) const;
+  void require_clamped(const char* what) const;
   const Body& body_;
+  bool relax_ = false, relaxed_values_ = false;
+  std::uint64_t id_ = 0;  ///< unique per object: key of the thread-local warm start
+  std::vector<std::int64_t> rep_sub_offset_;  ///< per class slot: CSR into rep_sub_
+  std::vector<std::int32_t> rep_sub_;  ///< [own site, site of each family member …] per slot
   std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class
   std::vector<std::int32_t> multiplicity_;
   std::size_t classes_ = 0;
@@ -148,7 +186,7 @@ double pair_inflection_stretch(const atomistic::Potential& potential, int type_i
 double uniaxial_peak_stretch(const CauchyBorn& cb, const Eigen::Vector3d& direction,
                              double max_stretch = 1.6, int steps = 60);
 
-/// What the clamped-ion Cauchy–Born assumption (every atom follows F, no inner relaxation)
+/// What the clamped-ion Cauchy–Born material (IonRelaxation::clamped: every atom follows F)
 /// means for a body of this lattice: empty when it is exact (a perfect Bravais lattice, or a
 /// perfect crystal whose every atom is a centre of inversion: B2, L1₂, NaCl); otherwise one
 /// message naming the lattice, that W, P and C are the clamped-ion (unrelaxed) values, and what
@@ -159,5 +197,10 @@ struct LatticeNote {
   bool warning = false;
 };
 LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice);
+/// The note for a material of mode `ion` (what evaluate() returns): empty for relaxed values
+/// of a perfect crystal; clamped values of a crystal whose basis would relax: a warning naming
+/// them as requested clamped-ion values; not a perfect crystal (any mode): a warning that inner
+/// relaxation is unavailable and the values are those of the atoms held at Fξ.
+LatticeNote cauchy_born_lattice_note(const LatticeInfo& lattice, IonRelaxation ion);
 
 }  // namespace pdcg::body

@@ -10,14 +10,18 @@
 /// Kinematics: a body of dimension 3 is a 3D material; a body of dimension 2 (a film in the
 /// xy plane) is a plane-strain material — the in-plane block of F is used with F₃₃ = 1 and only
 /// the in-plane blocks of P and A are filled (the convention of solver::Material).
-/// Limits: one material for the whole body (body-level W); the per-point form W_p of a
-/// homogenised body is CauchyBorn::points. Each evaluation costs one family per distinct atomic
-/// environment (one for a perfect Bravais crystal).
+/// Inner relaxation: the body-level material relaxes the basis of a perfect crystal
+/// (IonRelaxation::automatic: relaxed W, P, A; a body that is not a perfect crystal is
+/// clamped-ion with a warning). The per-point material is clamped-ion (warning for a crystal
+/// whose basis would relax). Limits: one material for the whole body (body-level W); the
+/// per-point form W_p of a homogenised body is CauchyBorn::points. Each evaluation costs one family
+/// per distinct atomic environment (one for a perfect Bravais crystal).
 #pragma once
 
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -26,6 +30,7 @@
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/model_file.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 #include "pdcg/solver/material.hpp"
 
 namespace pdcg::body {
@@ -74,8 +79,16 @@ class CauchyBornMaterial final : public solver::Material {
                 solver::Tangent* A) const override {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
-    return detail::copy_cauchy_born_state(cb_->evaluate(Ff, A != nullptr), 1.0, dimension(), psi, P,
-                                          A);
+    CauchyBornState s;
+    try {
+      s = cb_->evaluate(Ff, A != nullptr);
+    } catch (const NumericalError& e) {  // inner relaxation failed: an inadmissible state
+      static std::atomic<bool> said{false};
+      if (!said.exchange(true))
+        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+      return false;
+    }
+    return detail::copy_cauchy_born_state(s, 1.0, dimension(), psi, P, A);
   }
   solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {
     if (dimension() == 3) return F;
@@ -114,7 +127,7 @@ class PerPointCauchyBornMaterial final : public solver::Material {
   PerPointCauchyBornMaterial(std::shared_ptr<const Body> body, std::vector<double> volume,
                              std::string source = {})
       : body_(std::move(body)),
-        cb_(std::make_shared<CauchyBorn>(*body_)),
+        cb_(std::make_shared<CauchyBorn>(*body_, IonRelaxation::clamped)),
         volume_(std::make_shared<const std::vector<double>>(std::move(volume))),
         source_(std::move(source)) {
     if (volume_->size() != cb_->point_count())
