@@ -113,7 +113,9 @@ Slab make_slab(const Body& body, const SlabOptions& o) {
       break;
     }
   if (!found)
-    throw InputError("only one in-plane direction of the lattice within the search range")
+    throw InputError(
+        "the plane is not a lattice plane of the body's box (one in-plane lattice direction "
+        "within the search range)")
         .key("normal")
         .value(fmt::format("{:.6g} {:.6g} {:.6g}", n[0], n[1], n[2]))
         .fix("give a larger --search, or a plane of lower indices");

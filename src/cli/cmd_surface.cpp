@@ -143,8 +143,10 @@ int run(const Options& o) {
 
   // Ideal strength of the Cauchy–Born material: peak of P_nn under uniaxial strain along n.
   double lam_c = 0.0, p_c = std::numeric_limits<double>::quiet_NaN();
+  body::LatticeNote note;
   if (!o.no_strength) {
     const body::CauchyBorn cb(b);
+    note = body::cauchy_born_lattice_note(cb.lattice());
     lam_c = body::uniaxial_peak_stretch(cb, slab.normal);
     if (lam_c > 0.0) {
       const Eigen::Matrix3d F =
@@ -187,9 +189,10 @@ int run(const Options& o) {
     if (!o.no_strength)
       out.append(fmt::format(
           ", \"ideal_strength\": {{\"path\": \"uniaxial strain along the normal, Cauchy-Born\", "
-          "\"stretch\": {}, \"stress\": {}, \"stress_unit\": \"{}\", \"stress_GPa\": {}}}",
+          "\"stretch\": {}, \"stress\": {}, \"stress_unit\": \"{}\", \"stress_GPa\": {}, "
+          "\"clamped_ion\": {}}}",
           lam_c > 0.0 ? fmt::format("{:.17g}", lam_c) : "null", num_or_null(p_c),
-          names.energy_density, num_or_null(p_c * gpa)));
+          names.energy_density, num_or_null(p_c * gpa), note.warning));
     out.append("}\n");
     std::fputs(out.c_str(), stdout);
     return 0;
@@ -225,6 +228,8 @@ int run(const Options& o) {
         se.bulk_statics->rebuilds + se.slab_statics->rebuilds);
   }
   if (!o.no_strength) {
+    if (!note.text.empty())
+      std::printf("%s: %s\n", note.warning ? "warning" : "note", note.text.c_str());
     if (lam_c > 0.0)
       std::printf(
           "ideal strength (Cauchy-Born, uniaxial strain along the normal): stretch %.6f, "

@@ -85,10 +85,12 @@ def main():
 
     # cut in the middle of the widest gap between layers: z-heights modulo lz
     x = L.numpy.extract_atom("x")
-    zs = sorted({round(float(z) % lz, 6) for z in x[:natoms, 2]})
-    gaps = [((zs[(i + 1) % len(zs)] - zs[i]) % lz or lz, zs[i]) for i in range(len(zs))]
+    # layer heights as fractions of lz, rounded to 1e-9 (an atom at lz - round-off is at 0)
+    fr = sorted({round((float(z) / lz) % 1.0, 9) % 1.0 for z in x[:natoms, 2]})
+    gaps = [((fr[(i + 1) % len(fr)] - fr[i]) % 1.0 or 1.0, fr[i]) for i in range(len(fr))]
     gap, below = max(gaps)
-    mid = below + 0.5 * gap
+    zs = fr
+    mid = (below + 0.5 * gap) * lz
     cmd(f"displace_atoms all move 0 0 {-mid!r} units box")  # remapped into the periodic box
 
     cmd("run 0")
