@@ -78,6 +78,12 @@ if [ "$mode" = fast ]; then
     rc=$?
     if [ $rc -ne 2 ]; then echo "FAIL: pdcg surface $args exited $rc (expected 2)"; cat err.txt; fail=1; fi
   done
+  # an unconverged relaxation is a numerical failure (exit 1), never a γ
+  "$pdcg" surface lj.h5 --plane 100 --max-iterations 2 > out.txt 2> err.txt
+  rc=$?
+  if [ $rc -ne 1 ] || [ -s out.txt ] || ! grep -q "did not converge" err.txt; then
+    echo "FAIL: unconverged relaxation: exit $rc (expected 1, no output)"; cat err.txt; fail=1
+  fi
   "$pdcg" surface lj.h5 --normal "1 1.4142135623730951 0" > /dev/null 2> err.txt
   grep -q "not a lattice plane" err.txt && grep -q "normal" err.txt || { echo "FAIL: irrational normal not refused"; cat err.txt; fail=1; }
 else
