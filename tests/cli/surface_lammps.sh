@@ -38,7 +38,8 @@ IN
 # LJ: a = 1.55 (lj units: `lattice fcc` takes the reduced density 4/a³, as the reference script)
 bulk lj lj fcc 1.0741499110469603 1.0 "pair_style lj/cut 2.5" "pair_coeff 1 1 1.0 1.0"
 bulk cu metal fcc 3.615 63.546 "pair_style eam" "pair_coeff 1 1 Cu_u3.eam"
-bulk si metal diamond 5.431 28.0855 "pair_style sw" "pair_coeff * * Si.sw Si"
+[ "$mode" = fast ] || bulk si metal diamond 5.431 28.0855 "pair_style sw" "pair_coeff * * Si.sw Si"
+[ "$mode" = fast ] || bulk si-tersoff metal diamond 5.431 28.0855 "pair_style tersoff" "pair_coeff * * Si.tersoff Si"
 
 compare() {  # system plane periods [extra pdcg options]
   local sys=$1 plane=$2 periods=$3
@@ -93,6 +94,7 @@ else
   compare cu 111 4
   compare si 100 6
   compare si 111 4
+  compare si-tersoff 111 4
   compare cu 111 4 --min-style fire
 fi
 exit $fail

@@ -11,7 +11,7 @@ relaxed energies come from `min_style cg` with `minimize 0 FTOL ...` (box fixed)
 
     gamma = (E_slab - E_bulk) / (2 lx ly)
 
-Usage: surface_lammps.py --system lj|cu|si --plane 100|110|111 --periods NZ [--inplane NX NY]
+Usage: surface_lammps.py --system lj|cu|si|si-tersoff --plane 100|110|111 --periods NZ [--inplane NX NY]
                          [--ftol 1e-12] [--lj-a 1.55]
 Prints one JSON object. Needs the `lammps` Python module of /usr/bin/python3 (Debian's).
 """
@@ -37,7 +37,7 @@ def period(a, d):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--system", required=True, choices=["lj", "cu", "si"])
+    ap.add_argument("--system", required=True, choices=["lj", "cu", "si", "si-tersoff"])
     ap.add_argument("--plane", required=True, choices=sorted(ORIENT))
     ap.add_argument("--periods", type=int, required=True, help="lattice periods along the normal")
     ap.add_argument("--inplane", type=int, nargs=2, default=[2, 2])
@@ -57,7 +57,8 @@ def main():
         mass, basis_atoms = 63.546, 4
     else:
         a, units, style, scale = 5.431, "metal", "diamond", 5.431
-        pair = ["pair_style sw", "pair_coeff * * Si.sw Si"]
+        pair = (["pair_style sw", "pair_coeff * * Si.sw Si"] if o.system == "si" else
+                ["pair_style tersoff", "pair_coeff * * Si.tersoff Si"])
         mass, basis_atoms = 28.0855, 8
     ox, oy, oz = ORIENT[o.plane]
     px, py, pz = (period(a, d) for d in (ox, oy, oz))
