@@ -188,6 +188,11 @@ Slab make_slab(const Body& body, const SlabOptions& o) {
         "to the cell faces",
         u.size(), natoms, copies, body.size()));
 
+  if (d0 * jrep < 2.0 * body.potential->cutoff())
+    log::warn(
+        "slab height {:.6g} is below twice the interaction range {:.6g}: the two surfaces "
+        "interact through the slab (a thin film, not γ of a surface); give a larger --thickness",
+        d0 * jrep, 2.0 * body.potential->cutoff());
   // Cut in the middle of the widest gap between atomic heights (cyclic along a3).
   std::vector<double> hs;
   hs.reserve(u.size());
