@@ -113,6 +113,7 @@ def main():
         out["e_slab_relaxed"] = L.get_thermo("pe")
         out["fnorm_slab"] = L.get_thermo("fnorm")
         out["gamma_relaxed"] = (out["e_slab_relaxed"] - out["e_bulk_relaxed"]) / (2 * lx * ly)
+    L.close()
     json.dump(out, sys.stdout)
     print()
 
