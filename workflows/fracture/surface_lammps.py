@@ -12,7 +12,7 @@ relaxed energies come from `min_style cg` with `minimize 0 FTOL ...` (box fixed)
     gamma = (E_slab - E_bulk) / (2 lx ly)
 
 Usage: surface_lammps.py --system lj|cu|si|si-tersoff --plane 100|110|111 --periods NZ [--inplane NX NY]
-                         [--ftol 1e-12] [--lj-a 1.55]
+                         [--ftol 1e-12] [--lj-a 1.55] [--write-data SLAB.data]
 Prints one JSON object. Needs the `lammps` Python module of /usr/bin/python3 (Debian's).
 """
 import argparse
@@ -44,6 +44,7 @@ def main():
     ap.add_argument("--ftol", type=float, default=1e-12)
     ap.add_argument("--lj-a", type=float, default=1.55, help="LJ fcc lattice constant (sigma)")
     ap.add_argument("--no-relax", action="store_true")
+    ap.add_argument("--write-data", default="", help="write the relaxed slab (LAMMPS data file)")
     o = ap.parse_args()
 
     if o.system == "lj":
@@ -113,6 +114,8 @@ def main():
         out["e_slab_relaxed"] = L.get_thermo("pe")
         out["fnorm_slab"] = L.get_thermo("fnorm")
         out["gamma_relaxed"] = (out["e_slab_relaxed"] - out["e_bulk_relaxed"]) / (2 * lx * ly)
+        if o.write_data:
+            cmd(f"write_data {o.write_data}")
     L.close()
     json.dump(out, sys.stdout)
     print()
