@@ -6,6 +6,7 @@
 // The LAMMPS cross-checks are tests/cli/surface_lammps.sh.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 
 #include "pdcg/atomistic/potential_file.hpp"
@@ -167,4 +168,50 @@ TEST(Surface, RefusesNonLatticeNormalAndFreeBody) {
   const Body free = free_line(l, {0.0, 1.2});
   so.normal = {0, 0, 1};
   EXPECT_THROW(make_slab(free, so), InputError);
+}
+
+TEST(Surface, TriclinicPrimitiveCellGivesTheCubicCellsGamma) {
+  // The fcc primitive cell (one atom, a triclinic box in LAMMPS's form after a rotation Q)
+  // and the cubic cell give the same γ for the same crystal plane (normal rotated by Qᵀ),
+  // unrelaxed and relaxed: the slab cell is built from whichever lattice the box spans.
+  const LjBody l = lj_potential();
+  const double a = 1.55;
+  Eigen::Matrix3d P;
+  P << 0, 1, 1, 1, 0, 1, 1, 1, 0;
+  P *= 0.5 * a;  // columns: primitive vectors
+  Eigen::HouseholderQR<Eigen::Matrix3d> qr(P);
+  Eigen::Matrix3d Q = qr.householderQ();
+  Eigen::Matrix3d R = qr.matrixQR().triangularView<Eigen::Upper>();
+  for (int c = 0; c < 3; ++c)
+    if (R(c, c) < 0.0) {
+      R.row(c) *= -1.0;
+      Q.col(c) *= -1.0;
+    }
+  atomistic::Atoms at;
+  at.box.lo = {0, 0, 0};
+  at.box.hi = {R(0, 0), R(1, 1), R(2, 2)};
+  at.box.xy = R(0, 1);
+  at.box.xz = R(0, 2);
+  at.box.yz = R(1, 2);
+  at.id = {1};
+  at.type = {1};
+  at.x = {0.0, 0.0, 0.0};
+  at.type_mass = {NAN, 1.0};
+  const Body prim = make_delta_body(at, l.pot, l.spec);
+  const Body cubic = fcc_cell(l, a);
+  StaticsOptions st;
+  st.force_tolerance = 1e-10;
+  for (const Eigen::Vector3d hkl : {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, 0, 0)}) {
+    SlabOptions sc, sp;
+    sc.normal = hkl;
+    sp.normal = Q.transpose() * hkl;
+    sc.min_thickness = sp.min_thickness = 12.0;
+    const Slab slab_c = make_slab(cubic, sc), slab_p = make_slab(prim, sp);
+    ASSERT_EQ(slab_c.layers, slab_p.layers);  // same height: the same number of layers
+    const SurfaceEnergy ec = surface_energy(slab_c, st), ep = surface_energy(slab_p, st);
+    // same crystal and plane, other cells: round-off of the sums (unrelaxed), minimiser stop
+    // points within |f| ≤ 1e-10 (relaxed; energy error ~|f|²/k)
+    EXPECT_NEAR(ep.gamma, ec.gamma, 1e-11 * ec.gamma) << hkl.transpose();
+    EXPECT_NEAR(*ep.gamma_relaxed, *ec.gamma_relaxed, 1e-10 * *ec.gamma_relaxed) << hkl.transpose();
+  }
 }
