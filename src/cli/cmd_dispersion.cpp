@@ -365,6 +365,24 @@ int run_model(const Options& o) {
               "before the defect); for this body use --cell (folded branches of the whole "
               "periodic box), or --lattice and --a for the one-point curves of the --point's "
               "environment");
+    // every atom its own class: the box holds no lattice translation. A body of one primitive
+    // cell looks like this (a few atoms); a random alloy or a disordered box of many atoms does
+    // too, and its "primitive cell" would be the whole box — refused above 16 atoms.
+    if (info.basis > 16 && static_cast<std::size_t>(info.basis) == body.size())
+      throw pdcg::InputError(
+          "--path needs a perfect crystal: no two of the body's atoms are "
+          "lattice translates of each other")
+          .source(o.body)
+          .key("--path")
+          .value(fmt::format("{} atoms, {} different environments (a random alloy, an amorphous "
+                             "or perturbed box: not a perfect crystal)",
+                             body.size(), info.basis))
+          .expected(
+              "a perfect crystal: atoms repeated by lattice translations inside the box "
+              "(a primitive cell of at most 16 atoms is accepted as the whole box)")
+          .fix(
+              "compute the dispersion of the ordered crystal's body; for this box as it is use "
+              "--cell (its 3N folded branches, the box taken as the repeating cell)");
     if (!info.bravais()) {
       const auto cl = pdcg::dispersion::classify_lattice(info, body.dimension, o.body);
       pdcg::log::info("{} ({})", cl.summary, info.summary);
