@@ -571,7 +571,8 @@ pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
       "  pdcg dispersion body.h5 --grid -o grid.csv\n"
       "  pdcg dispersion --trajectory chain.dump --axis x --dt 0.01 -o measured.csv --compare "
       "model.csv\n"
-      "Model: eigenvalues of the dynamical matrix of the linearised body at one point (or cell).\n"
+      "Model: eigenvalues of the dynamical matrix of the linearised body at one point (or cell);\n"
+      "--path on a crystal with a basis: its primitive cell (3n branches).\n"
       "Measured: lattice planes normal to the axis, space–time FFT (FFTW), ridge of peak power per "
       "κ.");
   return [o] {
