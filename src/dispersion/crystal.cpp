@@ -279,9 +279,9 @@ Eigen::VectorXd CrystalDispersion::omega(const Eigen::Vector3d& kappa) const {
   const Eigen::MatrixXcd H = 0.5 * (D + D.adjoint());  // Hermitian up to round-off
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> es(H, Eigen::EigenvaluesOnly);
   // eigenvalues within round-off of 0 are 0: the acoustic modes at Γ, where the 3n × 3n sums
-  // of ±K blocks cancel to ~1e-16 of |λ|_max (measured ≤ 3e-16 for diamond Si), would otherwise
-  // show as ω ≈ ±1e-6 and a spurious "unstable mode"; 1e-12 is far above round-off and far
-  // below any physical mode (ω < 1e-6 ω_max)
+  // of ±K blocks cancel to ~1e-16 of |λ|_max (measured 1.1e-16 for diamond Si sw,
+  // DiamondPhysicalChecks), would otherwise show as ω ≈ ±1e-6 and a spurious "unstable mode"; 1e-12
+  // is far above round-off and far below any physical mode (ω < 1e-6 ω_max)
   const double zero = 1e-12 * es.eigenvalues().cwiseAbs().maxCoeff();
   Eigen::VectorXd w(H.rows());
   for (Eigen::Index i = 0; i < H.rows(); ++i) {
