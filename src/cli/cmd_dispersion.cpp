@@ -276,8 +276,8 @@ void check_bravais(const pdcg::body::Body& body, const Options& o, const char* m
       "acoustic ones are those of atoms that move without their basis partners",
       lat.summary, 3 * (lat.basis - 1));
   const std::string fix =
-      "run with --cell on a periodic body of one primitive (or conventional) cell: all 3n "
-      "branches of its n atoms (folded into the cell's zone)";
+      "use --path without --lattice/--a (e.g. --path auto): all 3n branches of the primitive "
+      "cell along a labelled path; or --cell for the folded branches of the whole periodic box";
   if (std::string(mode) == "--path" && (o.lattice.empty() || !(o.a > 0)))
     throw pdcg::InputError("cannot tell the Bravais lattice: the crystal has a basis")
         .source(o.body)
