@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "pdcg/atomistic/atoms.hpp"
+#include "pdcg/atomistic/configurations.hpp"
 #include "pdcg/atomistic/data_file.hpp"
 #include "pdcg/atomistic/dump_reader.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -39,58 +40,21 @@ inline std::vector<double> numbers(const std::string& text, std::size_t n,
   return v;
 }
 
-/// Frame selection: --frame N or --frames A:B[:S] (0-based, B exclusive, negative counts from
-/// the end as in Python).
-struct FrameRange {
-  std::int64_t first = 0, last = 1, step = 1;  // [first, last)
-};
+/// Frame selection and reading: the library's (atomistic/configurations.hpp), with the CLI's
+/// option names --frame and --frames.
+using FrameRange = atomistic::FrameSelection;
 
 inline FrameRange parse_frames(const std::optional<std::int64_t>& frame, const std::string& frames,
                                std::int64_t nframes, const std::string& source) {
-  if (frame && !frames.empty())
-    throw InputError("give one of --frame and --frames").key("--frame/--frames");
-  auto fix = [&](std::int64_t v) { return v < 0 ? v + nframes : v; };
-  FrameRange r;
-  if (frame) {
-    r.first = fix(*frame);
-    r.last = r.first + 1;
-  } else if (!frames.empty()) {
-    // The one frame-range syntax of pdcg (docs/cli.md): A:B[:S], B inclusive.
-    const auto fr = pdcg::parse_frame_range(frames, static_cast<std::size_t>(nframes), "--frames");
-    r.first = static_cast<std::int64_t>(fr.first);
-    r.last = static_cast<std::int64_t>(fr.last) + 1;
-    r.step = static_cast<std::int64_t>(fr.stride);
-  }
-  if (r.first < 0 || r.first >= nframes || r.last > nframes || r.last <= r.first)
-    throw InputError("frame range out of bounds")
-        .source(source)
-        .key(frame ? "--frame" : "--frames")
-        .value(frame ? std::to_string(*frame) : frames)
-        .expected(fmt::format("frames within 0..{} (the file holds {} frame{})", nframes - 1,
-                              nframes, nframes == 1 ? "" : "s"))
-        .fix("count frames from 0; negative numbers count from the end");
-  return r;
+  return atomistic::select_frames(frame, frames, nframes, source);
 }
 
-/// Frames of a dump or the configuration of a data file. A dump frame must hold what `needs`
-/// asks for (by default positions along x, y, z and at least one atom), else InputError.
 inline std::vector<atomistic::Atoms> read_configurations(const std::string& path,
                                                          const std::optional<std::int64_t>& frame,
                                                          const std::string& frames,
                                                          std::string* units,
                                                          const atomistic::FrameNeeds& needs = {}) {
-  std::vector<atomistic::Atoms> out;
-  if (atomistic::detect_atom_file_kind(path) == atomistic::AtomFileKind::data) {
-    (void)parse_frames(frame, frames, 1, path);
-    out.push_back(atomistic::read_data_file(path));
-    return out;
-  }
-  atomistic::DumpReader dump(path);
-  if (units) *units = dump.units();
-  const auto r = parse_frames(frame, frames, static_cast<std::int64_t>(dump.nframes()), path);
-  for (std::int64_t f = r.first; f < r.last; f += r.step)
-    out.push_back(dump.frame(static_cast<std::size_t>(f), needs));
-  return out;
+  return atomistic::read_configurations(path, frame, frames, units, needs);
 }
 
 /// "p p f" for a periodicity.

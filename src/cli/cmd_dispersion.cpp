@@ -432,30 +432,9 @@ int run_model(const Options& o) {
     const Eigen::Vector3d dir = parse_vector(o.direction, "--direction").normalized();
     double kmax = o.kmax;
     if (!(kmax > 0)) {
-      // zone edge along the direction: π over the shortest non-zero projection of the
-      // nearest-neighbour bonds (chain: π/h; fcc [100]: 2π/a; fcc [111]: √3π/a)
-      const auto& f = body.families;
-      const std::size_t k = point_model->representative_atom();
-      double nearest = std::numeric_limits<double>::infinity();
-      for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i)
-        nearest = std::min(
-            nearest,
-            pdcg::atomistic::bond_vector(f, body.x, k, static_cast<std::size_t>(i)).norm());
-      double proj = std::numeric_limits<double>::infinity();
-      for (auto i = f.offset[k]; i < f.offset[k + 1]; ++i) {
-        const Eigen::Vector3d xi =
-            pdcg::atomistic::bond_vector(f, body.x, k, static_cast<std::size_t>(i));
-        if (xi.norm() > 1.01 * nearest) continue;
-        const double p = std::abs(xi.dot(dir));
-        if (p > 1e-9 * nearest) proj = std::min(proj, p);
-      }
-      if (!std::isfinite(proj))
-        throw pdcg::InputError("no nearest-neighbour bond has a component along the direction")
-            .key("--direction")
-            .value(o.direction)
-            .expected("a direction with a zone edge from the nearest-neighbour shell")
-            .fix("pass --kmax");
-      kmax = std::numbers::pi / proj;
+      // zone edge along the direction (chain: π/h; fcc [100]: 2π/a; fcc [111]: √3π/a)
+      kmax = pdcg::dispersion::zone_edge(body, point_model->representative_atom(), dir,
+                                         "--direction", o.direction);
     }
     for (int i = 0; i <= o.nk; ++i) {
       const double k = kmax * i / o.nk;

@@ -10,6 +10,15 @@
 
 namespace pdcg {
 
+namespace {
+Progress::Observer& observer() {
+  static Progress::Observer o;
+  return o;
+}
+}  // namespace
+
+void Progress::set_observer(Observer o) { observer() = std::move(o); }
+
 Progress::Progress(std::string label, std::uint64_t total, double plain_interval_seconds)
     : label_(std::move(label)),
       total_(total),
@@ -47,6 +56,7 @@ std::string Progress::status(std::uint64_t done, const std::string& extra) const
 
 void Progress::update(std::uint64_t done, const std::string& extra) {
   done_ = done;
+  if (observer()) observer()(label_, done, total_);
   if (log::level() > log::Level::info) return;
   const auto now = clock::now();
   const double since = std::chrono::duration<double>(now - last_draw_).count();
@@ -65,6 +75,7 @@ void Progress::update(std::uint64_t done, const std::string& extra) {
 void Progress::finish(const std::string& extra) {
   if (finished_) return;
   finished_ = true;
+  if (observer()) observer()(label_, total_ > 0 ? total_ : done_, total_);
   if (log::level() > log::Level::info) return;
   if (terminal_ && drawn_) std::fprintf(stderr, "\r\033[K");
   std::fprintf(stderr, "%s\n", status(total_ > 0 ? total_ : done_, extra).c_str());

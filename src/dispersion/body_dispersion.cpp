@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/units.hpp"
@@ -68,6 +69,30 @@ std::size_t nearest_centre(const body::Body& b, const std::vector<double>& pts) 
 }
 
 }  // namespace
+
+double zone_edge(const body::Body& body, std::size_t atom, const Eigen::Vector3d& direction,
+                 std::string_view option, std::string_view given) {
+  const auto& f = body.families;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (auto i = f.offset[atom]; i < f.offset[atom + 1]; ++i)
+    nearest = std::min(nearest,
+                       atomistic::bond_vector(f, body.x, atom, static_cast<std::size_t>(i)).norm());
+  double proj = std::numeric_limits<double>::infinity();
+  for (auto i = f.offset[atom]; i < f.offset[atom + 1]; ++i) {
+    const Eigen::Vector3d xi = atomistic::bond_vector(f, body.x, atom, static_cast<std::size_t>(i));
+    if (xi.norm() > 1.01 * nearest) continue;
+    const double p = std::abs(xi.dot(direction));
+    if (p > 1e-9 * nearest) proj = std::min(proj, p);
+  }
+  if (!std::isfinite(proj))
+    throw InputError("no nearest-neighbour bond has a component along the direction")
+        .key(option)
+        .value(given.empty() ? fmt::format("{},{},{}", direction[0], direction[1], direction[2])
+                             : std::string(given))
+        .expected("a direction with a zone edge from the nearest-neighbour shell")
+        .fix(option == "--direction" ? "pass --kmax" : "pass kmax=");
+  return std::numbers::pi / proj;
+}
 
 std::size_t representative_atom(const body::Body& b, std::optional<std::size_t> point) {
   if (b.homogenisation) {

@@ -18,6 +18,7 @@ PDCG_PACKAGES=(
   libopenblas0-openmp  # BLAS of the sparse direct solvers (reference BLAS: ~5× slower)
   liblammps-dev lammps lammps-data python3-lammps
   python3 python3-numpy python3-h5py python3-matplotlib
+  python3-dev pybind11-dev python3-pytest python3-ase python3-yaml  # the Python module (docs/python.md)
 )
 # Extra packages of the sanitizer and fuzzing checks (tests/sanitize.sh, tests/fuzz/run.sh):
 # clang and libFuzzer. Installed only when PDCG_CHECKS=1 (those scripts set it).

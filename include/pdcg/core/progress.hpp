@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace pdcg {
@@ -31,6 +32,14 @@ class Progress {
 
   /// The text of the current status, e.g. "steps 40/100 (40%) 12.3/s ETA 4.9 s".
   std::string status(std::uint64_t done, const std::string& extra = {}) const;
+
+  /// Called on every update() and finish() of every Progress (label, units done, total; total
+  /// 0 if unknown), before any throttling: how an embedding program (the Python module) sees
+  /// the progress of long calls. Process-wide; an empty function removes it. An exception the
+  /// observer throws leaves update()/finish() and ends the loop like any other error.
+  using Observer =
+      std::function<void(const std::string& label, std::uint64_t done, std::uint64_t total)>;
+  static void set_observer(Observer observer);
 
   /// Forces TTY or plain mode (tests).
   void set_terminal(bool is_terminal) { terminal_ = is_terminal; }

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "pdcg/body/body.hpp"
 #include "pdcg/dispersion/grid.hpp"
@@ -30,6 +31,14 @@ LatticeGuess detect_lattice(const body::Body& body, std::size_t atom);
 /// The atom BodyDispersion(body, point, false).representative_atom() will use, without
 /// linearising anything (cheap: for checks before the model is built).
 std::size_t representative_atom(const body::Body& body, std::optional<std::size_t> point);
+
+/// Zone edge along the unit vector `direction` at atom `atom`: π over the shortest non-zero
+/// projection onto `direction` of its nearest-neighbour bonds (chain: π/h; fcc [100]: 2π/a;
+/// fcc [111]: √3π/a). Throws InputError naming `option` when no nearest-neighbour bond has a
+/// component along the direction (then give κ_max explicitly); `given` is the direction as the
+/// user wrote it, for the message (empty: the components of `direction`).
+double zone_edge(const body::Body& body, std::size_t atom, const Eigen::Vector3d& direction,
+                 std::string_view option = "--direction", std::string_view given = {});
 
 class BodyDispersion {
  public:

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "pdcg/core/progress.hpp"
 
@@ -35,4 +38,47 @@ TEST(Progress, LoopLeftEarlyNeverReadsComplete) {
   pdcg::Progress q("steps", 200);
   EXPECT_NE(q.status(199).find("(99%)"), std::string::npos) << q.status(199);
   q.finish();
+}
+
+TEST(Progress, ObserverSeesEveryUpdateAndTheFinish) {
+  // The hook of the Python module's progress callbacks: every update and the finish reach the
+  // observer (label, done, total) before any throttling; an empty observer removes it.
+  std::vector<std::tuple<std::string, std::uint64_t, std::uint64_t>> seen;
+  pdcg::Progress::set_observer([&](const std::string& label, std::uint64_t done,
+                                   std::uint64_t total) { seen.emplace_back(label, done, total); });
+  {
+    pdcg::Progress p("steps", 3, 1e9);
+    p.set_terminal(false);
+    p.update(1);
+    p.update(2);
+    p.finish();
+  }
+  pdcg::Progress::set_observer({});
+  {
+    pdcg::Progress q("frames", 2, 1e9);
+    q.update(1);
+    q.finish();
+  }
+  ASSERT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen[0], std::make_tuple(std::string("steps"), std::uint64_t{1}, std::uint64_t{3}));
+  EXPECT_EQ(seen[1], std::make_tuple(std::string("steps"), std::uint64_t{2}, std::uint64_t{3}));
+  EXPECT_EQ(seen[2], std::make_tuple(std::string("steps"), std::uint64_t{3}, std::uint64_t{3}));
+}
+
+TEST(Progress, ObserverExceptionLeavesTheLoop) {
+  pdcg::Progress::set_observer([](const std::string&, std::uint64_t done, std::uint64_t) {
+    if (done == 2) throw std::runtime_error("stop at 2");
+  });
+  int steps = 0;
+  try {
+    pdcg::Progress p("steps", 5, 1e9);
+    for (int i = 1; i <= 5; ++i) {
+      p.update(static_cast<std::uint64_t>(i));
+      ++steps;
+    }
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "stop at 2");
+  }
+  pdcg::Progress::set_observer({});
+  EXPECT_EQ(steps, 1);
 }
