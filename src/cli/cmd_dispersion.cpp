@@ -24,6 +24,7 @@
 #include "pdcg/core/progress.hpp"
 #include "pdcg/core/units.hpp"
 #include "pdcg/dispersion/body_dispersion.hpp"
+#include "pdcg/dispersion/crystal.hpp"
 #include "pdcg/dispersion/curves.hpp"
 #include "pdcg/dispersion/trajectory.hpp"
 #include "pdcg/io/atomic_output.hpp"
@@ -275,8 +276,8 @@ void check_bravais(const pdcg::body::Body& body, const Options& o, const char* m
       "acoustic ones are those of atoms that move without their basis partners",
       lat.summary, 3 * (lat.basis - 1));
   const std::string fix =
-      "run with --cell on a periodic body of one primitive (or conventional) cell: all 3n "
-      "branches of its n atoms (folded into the cell's zone)";
+      "use --path without --lattice/--a (e.g. --path auto): all 3n branches of the primitive "
+      "cell along a labelled path; or --cell for the folded branches of the whole periodic box";
   if (std::string(mode) == "--path" && (o.lattice.empty() || !(o.a > 0)))
     throw pdcg::InputError("cannot tell the Bravais lattice: the crystal has a basis")
         .source(o.body)
@@ -339,29 +340,101 @@ int run_model(const Options& o) {
   const std::optional<std::size_t> point =
       o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt;
   // lattice checks first: they take well under a second, the linearisation may take long
-  check_bravais(body, o, o.path.empty() ? "--direction" : "--path");
-  const std::size_t rep = o.cell ? 0 : pdcg::dispersion::representative_atom(body, point);
   std::string lattice = o.lattice;
   double a = o.a;
   std::vector<std::pair<double, Eigen::Vector3d>> ks;
-  if (!o.path.empty()) {
-    if (lattice.empty() || !(a > 0)) {
-      const auto g = pdcg::dispersion::detect_lattice(body, rep);
-      if (lattice.empty()) lattice = g.lattice;
-      if (!(a > 0)) a = g.a;
-      pdcg::log::info("lattice {} with a = {:.6g} (nearest neighbours: {} at {:.6g})", lattice, a,
-                      g.coordination, g.nearest);
+  std::vector<std::string> labels;  // per κ: its path label ("" between corners)
+  std::unique_ptr<pdcg::dispersion::CrystalDispersion> crystal;
+  const bool explicit_lattice = !o.lattice.empty() && o.a > 0;
+  if (!o.path.empty() && !o.cell && !explicit_lattice) {
+    // the crystal decides: its lattice (and orientation) from body::detect_lattice; a crystal
+    // with a basis gets its primitive cell's 3n branches, a Bravais lattice the one-point ones
+    const auto info = pdcg::body::detect_lattice(body);
+    if (!info.perfect)
+      throw pdcg::InputError(
+          "--path needs a perfect crystal: high-symmetry paths and branches "
+          "belong to a primitive cell")
+          .source(o.body)
+          .key("--path")
+          .value(info.summary)
+          .expected(
+              "a body whose every atom is one of n equally populated lattice sites "
+              "(no vacancies, interstitials, surfaces, displaced atoms or random species)")
+          .fix(
+              "compute the dispersion of the perfect crystal's body (e.g. the ordered alloy, "
+              "before the defect); for this body use --cell (folded branches of the whole "
+              "periodic box), or --lattice and --a for the one-point curves of the --point's "
+              "environment");
+    // every atom its own class: the box holds no lattice translation. A body of one primitive
+    // cell looks like this (a few atoms); a random alloy or a disordered box of many atoms does
+    // too, and its "primitive cell" would be the whole box — refused above 16 atoms.
+    if (info.basis > 16 && static_cast<std::size_t>(info.basis) == body.size())
+      throw pdcg::InputError(
+          "--path needs a perfect crystal: no two of the body's atoms are "
+          "lattice translates of each other")
+          .source(o.body)
+          .key("--path")
+          .value(fmt::format("{} atoms, {} different environments (a random alloy, an amorphous "
+                             "or perturbed box: not a perfect crystal)",
+                             body.size(), info.basis))
+          .expected(
+              "a perfect crystal: atoms repeated by lattice translations inside the box "
+              "(a primitive cell of at most 16 atoms is accepted as the whole box)")
+          .fix(
+              "compute the dispersion of the ordered crystal's body; for this box as it is use "
+              "--cell (its 3N folded branches, the box taken as the repeating cell)");
+    if (!info.bravais()) {
+      const auto cl = pdcg::dispersion::classify_lattice(info, body.dimension, o.body);
+      pdcg::log::info("{} ({})", cl.summary, info.summary);
+      const std::string spec =
+          o.path == "auto" ? pdcg::dispersion::default_path(cl.lattice) : o.path;
+      for (const auto& p : pdcg::dispersion::labelled_path(cl.points, cl.lattice, spec, o.nk)) {
+        ks.emplace_back(p.s, p.kappa);
+        labels.push_back(p.label);
+      }
+      if (body.homogenisation) {
+        pdcg::log::info(
+            "homogenised body: the model has 3 degrees of freedom per point, so 3 branches — "
+            "the atoms of the point (all {} basis sites) move together (no optical branches)",
+            info.basis);
+      } else {
+        crystal = std::make_unique<pdcg::dispersion::CrystalDispersion>(body, info);
+      }
     }
-    ks = pdcg::dispersion::path(lattice, a, o.path, o.nk);
   }
-  const pdcg::dispersion::BodyDispersion model(body, point, o.cell);
+  if (!crystal && ks.empty()) {
+    check_bravais(body, o, o.path.empty() ? "--direction" : "--path");
+    const std::size_t rep = o.cell ? 0 : pdcg::dispersion::representative_atom(body, point);
+    if (!o.path.empty()) {
+      if (lattice.empty() || !(a > 0)) {
+        const auto g = pdcg::dispersion::detect_lattice(body, rep);
+        if (lattice.empty()) lattice = g.lattice;
+        if (!(a > 0)) a = g.a;
+        pdcg::log::info("lattice {} with a = {:.6g} (nearest neighbours: {} at {:.6g})", lattice, a,
+                        g.coordination, g.nearest);
+      }
+      const std::string spec = o.path == "auto" ? pdcg::dispersion::default_path(lattice) : o.path;
+      for (const auto& p : pdcg::dispersion::labelled_path(
+               pdcg::dispersion::symmetry_points(lattice, a), lattice, spec, o.nk)) {
+        ks.emplace_back(p.s, p.kappa);
+        labels.push_back(p.label);
+      }
+    }
+  }
+  std::unique_ptr<pdcg::dispersion::BodyDispersion> point_model;
+  if (!crystal)
+    point_model = std::make_unique<pdcg::dispersion::BodyDispersion>(body, point, o.cell);
+  auto omega = [&](const Eigen::Vector3d& k) -> Eigen::VectorXd {
+    return crystal ? crystal->omega(k) : point_model->omega(k);
+  };
+  const std::string description = crystal ? crystal->description() : point_model->description();
   if (o.path.empty()) {
     const Eigen::Vector3d dir = parse_vector(o.direction, "--direction").normalized();
     double kmax = o.kmax;
     if (!(kmax > 0)) {
       // zone edge along the direction (chain: π/h; fcc [100]: 2π/a; fcc [111]: √3π/a)
-      kmax = pdcg::dispersion::zone_edge(body, model.representative_atom(), dir, "--direction",
-                                         o.direction);
+      kmax = pdcg::dispersion::zone_edge(body, point_model->representative_atom(), dir,
+                                         "--direction", o.direction);
     }
     for (int i = 0; i <= o.nk; ++i) {
       const double k = kmax * i / o.nk;
@@ -371,9 +444,19 @@ int run_model(const Options& o) {
   Curves ref;
   if (!o.compare.empty()) ref = read_curves(o.compare);
   pdcg::io::AtomicTextFile csv(o.output);
-  const auto first = model.omega(ks[0].second);
+  const auto first = omega(ks[0].second);
   const auto nb = static_cast<std::size_t>(first.size());
-  csv.stream() << units_line(body) << "kappa";
+  csv.stream() << units_line(body);
+  if (!labels.empty()) {
+    // second comment line: the path's labelled corners at their kappa (path length)
+    csv.stream() << "# path labels:";
+    for (std::size_t i = 0; i < labels.size(); ++i)
+      if (!labels[i].empty() &&
+          (i == 0 || labels[i] != labels[i - 1] || ks[i].first != ks[i - 1].first))
+        csv.stream() << fmt::format(" {}@{:.17g}", labels[i], ks[i].first);
+    csv.stream() << "\n";
+  }
+  csv.stream() << "kappa";
   for (std::size_t b = 0; b < nb; ++b) csv.stream() << ",omega_" << b + 1;
   csv.stream() << ",kx,ky,kz";
   for (std::size_t j = 0; j < ref.omega.size(); ++j)
@@ -381,7 +464,7 @@ int run_model(const Options& o) {
   csv.stream() << "\n";
   double worst = 0.0, worst_k = 0.0, wmin = 0.0;
   for (const auto& [s, k] : ks) {
-    const Eigen::VectorXd w = model.omega(k);
+    const Eigen::VectorXd w = omega(k);
     wmin = std::min(wmin, w.minCoeff());
     csv.stream() << fmt::format("{:.17g}", s);
     for (Eigen::Index b = 0; b < w.size(); ++b) csv.stream() << fmt::format(",{:.17g}", w[b]);
@@ -401,8 +484,8 @@ int run_model(const Options& o) {
     csv.stream() << "\n";
   }
   csv.commit();
-  std::printf("model dispersion of %s: %zu κ points, %zu branches -> %s\n",
-              model.description().c_str(), ks.size(), nb, o.output.c_str());
+  std::printf("model dispersion of %s: %zu κ points, %zu branches -> %s\n", description.c_str(),
+              ks.size(), nb, o.output.c_str());
   if (wmin < 0)
     std::printf(
         "warning: unstable modes (ω² < 0, written as −√|ω²|): the reference configuration is not a "
@@ -410,7 +493,7 @@ int run_model(const Options& o) {
   if (!o.compare.empty())
     std::printf("worst error against %s: %.6g at κ = %.6g\n", o.compare.c_str(), worst, worst_k);
   if (!o.plot.empty()) {
-    plot_csv(o.output, o.plot, model.description());
+    plot_csv(o.output, o.plot, description);
     std::printf("plot -> %s\n", o.plot.c_str());
   }
   return 0;
@@ -423,7 +506,9 @@ pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "pdcg body file (model dispersion)");
   sub->add_option("--direction", o->direction, "Model: wave direction, e.g. 1,0,0");
-  sub->add_option("--path", o->path, "Model: high-symmetry path, e.g. G-X-K-G-L");
+  sub->add_option("--path", o->path,
+                  "Model: high-symmetry path, e.g. G-X-W-K-G-L ('|' for a jump), or auto; a "
+                  "crystal with a basis gets all 3n branches of its primitive cell");
   sub->add_option("--nk", o->nk, "Model: κ points per direction or path segment (default 50)");
   sub->add_option("--kmax", o->kmax, "Model, --direction: largest |κ| (default: zone edge)");
   sub->add_option("--lattice", o->lattice,
@@ -450,21 +535,23 @@ pdcg::cli::Registration reg(400, [](CLI::App& app) -> pdcg::cli::Runner {
                   "Measured: refuse trajectories whose Δω is coarser");
   sub->add_option("--window", o->window, "Measured: time window hann (default) or none")
       ->check(CLI::IsMember({"hann", "none"}));
-  sub->add_option(
-         "-o,--output", o->output,
-         "CSV: model kappa,omega_1..omega_n,kx,ky,kz; measured kappa,omega,power,resolution; "
-         "--compare adds reference and error columns")
+  sub->add_option("-o,--output", o->output,
+                  "CSV: model kappa,omega_1..omega_n,kx,ky,kz (--path: a '# path labels:' line); "
+                  "measured kappa,omega,power,resolution; "
+                  "--compare adds reference and error columns")
       ->required();
   sub->add_option("--spectrum", o->spectrum, "Measured: PNG image of the power spectrum S(κ, ω)");
   sub->add_option("--compare", o->compare, "CSV with kappa and omega… columns to compare with");
   sub->footer(
       "Examples:\n"
       "  pdcg dispersion body.h5 --path G-X-K-G-L --nk 40 -o disp.csv --plot disp.png\n"
+      "  pdcg dispersion si.h5 --path auto -o si.csv      (diamond: 6 branches)\n"
       "  pdcg dispersion chain.h5 --direction 1,0,0 -o model.csv\n"
       "  pdcg dispersion body.h5 --grid -o grid.csv\n"
       "  pdcg dispersion --trajectory chain.dump --axis x --dt 0.01 -o measured.csv --compare "
       "model.csv\n"
-      "Model: eigenvalues of the dynamical matrix of the linearised body at one point (or cell).\n"
+      "Model: eigenvalues of the dynamical matrix of the linearised body at one point (or cell);\n"
+      "--path on a crystal with a basis: its primitive cell (3n branches).\n"
       "Measured: lattice planes normal to the axis, space–time FFT (FFTW), ridge of peak power per "
       "κ.");
   return [o] {

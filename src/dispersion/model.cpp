@@ -40,7 +40,8 @@ LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential,
   }
   k_.assign(static_cast<std::size_t>(total), 0.0);
   std::vector<int> ntype(fam.bonds());
-  for (std::size_t b = 0; b < fam.bonds(); ++b) ntype[b] = type[static_cast<std::size_t>(fam.neighbor[b])];
+  for (std::size_t b = 0; b < fam.bonds(); ++b)
+    ntype[b] = type[static_cast<std::size_t>(fam.neighbor[b])];
   std::int64_t max_nb = 0;
   for (std::size_t k = 0; k < n; ++k) max_nb = std::max(max_nb, fam.offset[k + 1] - fam.offset[k]);
   std::vector<double> work(atomistic::Potential::tangent_workspace(max_nb));
@@ -84,8 +85,10 @@ Eigen::Matrix3d block(std::span<const double> K, std::int64_t n, std::int64_t b,
 
 }  // namespace
 
-Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::pair<std::int32_t, double>> atoms,
-                            std::span<const double> mass, const Eigen::Vector3d& kappa, double mvv2e) {
+Eigen::Vector3d point_omega(const LinearisedFamilies& lin,
+                            std::span<const std::pair<std::int32_t, double>> atoms,
+                            std::span<const double> mass, const Eigen::Vector3d& kappa,
+                            double mvv2e) {
   const auto& fam = lin.families();
   Eigen::Matrix3cd D = Eigen::Matrix3cd::Zero();
   double M = 0.0;
@@ -107,8 +110,8 @@ Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::
         bool zero = true;
         for (int i = 0; i < 9 && zero; ++i) zero = p[i] == 0.0;
         if (zero) continue;
-        D += w * std::conj(phase[static_cast<std::size_t>(b)]) * phase[static_cast<std::size_t>(c)] *
-             block(K, n, b, c).cast<cd>();
+        D += w * std::conj(phase[static_cast<std::size_t>(b)]) *
+             phase[static_cast<std::size_t>(c)] * block(K, n, b, c).cast<cd>();
       }
     M += w * mass[kk];
   }
@@ -119,8 +122,8 @@ Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::
   return {signed_sqrt(w2[0]), signed_sqrt(w2[1]), signed_sqrt(w2[2])};
 }
 
-Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa,
-                           double mvv2e) {
+Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass,
+                           const Eigen::Vector3d& kappa, double mvv2e) {
   const auto& fam = lin.families();
   const auto N = static_cast<Eigen::Index>(fam.points());
   Eigen::MatrixXcd D = Eigen::MatrixXcd::Zero(3 * N, 3 * N);
@@ -162,35 +165,68 @@ Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double
   return w;
 }
 
-std::vector<SymmetryPoint> symmetry_points(const std::string& lattice, double a) {
+std::vector<SymmetryPoint> symmetry_points(const std::string& lattice, double a, double c) {
   const double u = 2.0 * std::numbers::pi / a;
   using V = Eigen::Vector3d;
   if (lattice == "fcc")
-    return {{"G", V(0, 0, 0)}, {"X", u * V(1, 0, 0)}, {"L", u * V(0.5, 0.5, 0.5)},
+    return {{"G", V(0, 0, 0)},           {"X", u * V(1, 0, 0)},   {"L", u * V(0.5, 0.5, 0.5)},
             {"K", u * V(0.75, 0.75, 0)}, {"W", u * V(1, 0.5, 0)}, {"U", u * V(1, 0.25, 0.25)}};
   if (lattice == "bcc")
-    return {{"G", V(0, 0, 0)}, {"H", u * V(1, 0, 0)}, {"N", u * V(0.5, 0.5, 0)}, {"P", u * V(0.5, 0.5, 0.5)}};
+    return {{"G", V(0, 0, 0)},
+            {"H", u * V(1, 0, 0)},
+            {"N", u * V(0.5, 0.5, 0)},
+            {"P", u * V(0.5, 0.5, 0.5)}};
   if (lattice == "sc")
-    return {{"G", V(0, 0, 0)}, {"X", u * V(0.5, 0, 0)}, {"M", u * V(0.5, 0.5, 0)}, {"R", u * V(0.5, 0.5, 0.5)}};
-  if (lattice == "hex")  // triangular lattice a1 = a(1,0), a2 = a(1/2, √3/2)
-    return {{"G", V(0, 0, 0)}, {"M", u * V(0, 1.0 / std::sqrt(3.0), 0)}, {"K", u * V(2.0 / 3.0, 0, 0)}};
+    return {{"G", V(0, 0, 0)},
+            {"X", u * V(0.5, 0, 0)},
+            {"M", u * V(0.5, 0.5, 0)},
+            {"R", u * V(0.5, 0.5, 0.5)}};
+  // triangular lattice a1 = a(1,0), a2 = a(1/2, √3/2): reciprocal b1 = u(1, −1/√3),
+  // b2 = u(0, 2/√3); M = b2/2 (edge centre), K = (b1 + 2b2)/3 = u(1/3, 1/√3) (the corner on the
+  // zone edge through M, so that M–K runs along the edge)
+  const double r3 = std::sqrt(3.0);
+  if (lattice == "hex")
+    return {{"G", V(0, 0, 0)}, {"M", u * V(0, 1.0 / r3, 0)}, {"K", u * V(1.0 / 3.0, 1.0 / r3, 0)}};
+  if (lattice == "hcp") {
+    if (!(c > 0))
+      throw InputError("the hexagonal (hcp) lattice needs its c axis")
+          .key("--lattice")
+          .value(lattice)
+          .expected("c > 0 (told from the body's primitive vectors)")
+          .fix("leave --lattice out: the lattice and c are found from the crystal");
+    const V A(0, 0, std::numbers::pi / c), M = u * V(0, 1.0 / r3, 0),
+                                           K = u * V(1.0 / 3.0, 1.0 / r3, 0);
+    return {{"G", V(0, 0, 0)}, {"M", M}, {"K", K}, {"A", A}, {"L", M + A}, {"H", K + A}};
+  }
   if (lattice == "chain") return {{"G", V(0, 0, 0)}, {"X", u * V(0.5, 0, 0)}};
   throw InputError("unknown lattice")
       .key("--lattice")
       .value(lattice)
-      .expected("one of fcc, bcc, sc, hex, chain")
+      .expected("one of fcc, bcc, sc, hex, chain (hcp: found from the body, not by name)")
       .fix("name the Bravais lattice of the body");
 }
 
-std::vector<std::pair<double, Eigen::Vector3d>> path(const std::string& lattice, double a,
-                                                     const std::string& labels, int nk) {
-  const auto points = symmetry_points(lattice, a);
-  std::vector<Eigen::Vector3d> corners;
-  std::stringstream ss(labels);
-  std::string label;
-  while (std::getline(ss, label, '-')) {
+std::string default_path(const std::string& lattice) {
+  if (lattice == "fcc") return "G-X-W-K-G-L-U-W-L-K|U-X";
+  if (lattice == "bcc") return "G-H-N-G-P-H|P-N";
+  if (lattice == "sc") return "G-X-M-G-R-X|M-R";
+  if (lattice == "hcp") return "G-M-K-G-A-L-H-A|L-M|K-H";
+  if (lattice == "hex") return "G-M-K-G";
+  if (lattice == "chain") return "G-X";
+  throw InputError("no default path for this lattice")
+      .key("--path")
+      .value(lattice)
+      .expected("fcc, bcc, sc, hcp, hex or chain")
+      .fix("name the path, e.g. --path G-X");
+}
+
+std::vector<PathPoint> labelled_path(const std::vector<SymmetryPoint>& points,
+                                     const std::string& lattice, const std::string& labels,
+                                     int nk) {
+  auto find = [&](std::string label) {
     if (label == "Γ") label = "G";
-    auto it = std::find_if(points.begin(), points.end(), [&](const SymmetryPoint& p) { return p.label == label; });
+    auto it = std::find_if(points.begin(), points.end(),
+                           [&](const SymmetryPoint& p) { return p.label == label; });
     if (it == points.end()) {
       std::string valid;
       for (const auto& p : points) valid += (valid.empty() ? "" : ", ") + p.label;
@@ -198,23 +234,60 @@ std::vector<std::pair<double, Eigen::Vector3d>> path(const std::string& lattice,
           .key("--path")
           .value(label)
           .expected("one of " + valid + " for lattice " + lattice)
-          .fix("write the path as labels joined by '-', e.g. G-X-L-G");
+          .fix(
+              "write the path as labels joined by '-' ('|' for a jump), e.g. G-X-L-G, or "
+              "--path auto");
     }
-    corners.push_back(it->kappa);
+    return *it;
+  };
+  // pieces separated by '|', each a chain of labels joined by '-'
+  std::vector<std::vector<SymmetryPoint>> pieces;
+  std::stringstream ps(labels);
+  for (std::string piece; std::getline(ps, piece, '|');) {
+    std::vector<SymmetryPoint> corners;
+    std::stringstream ss(piece);
+    for (std::string label; std::getline(ss, label, '-');) corners.push_back(find(label));
+    if (corners.size() < 2)
+      throw InputError("a path (and every piece between '|') needs at least two points")
+          .key("--path")
+          .value(labels)
+          .expected("e.g. G-X or G-X-W|U-X");
+    pieces.push_back(corners);
   }
-  if (corners.size() < 2 || nk < 1)
-    throw InputError("a path needs at least two points").key("--path").value(labels).expected("e.g. G-X");
-  std::vector<std::pair<double, Eigen::Vector3d>> out;
+  if (pieces.empty() || nk < 1)
+    throw InputError("a path needs at least two points")
+        .key("--path")
+        .value(labels)
+        .expected("e.g. G-X");
+  std::vector<PathPoint> out;
   double s = 0.0;
-  out.emplace_back(0.0, corners[0]);
-  for (std::size_t seg = 0; seg + 1 < corners.size(); ++seg) {
-    const Eigen::Vector3d d = corners[seg + 1] - corners[seg];
-    for (int i = 1; i <= nk; ++i) {
-      const Eigen::Vector3d k = corners[seg] + d * (static_cast<double>(i) / nk);
-      out.emplace_back(s + d.norm() * i / nk, k);
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    const auto& corners = pieces[p];
+    if (p == 0)
+      out.push_back({0.0, corners[0].kappa, corners[0].label});
+    else  // the jump: the previous piece's end and this piece's start share s
+      out.push_back({s, corners[0].kappa, corners[0].label});
+    if (p > 0) {
+      out[out.size() - 2].label += "|" + corners[0].label;
+      out.back().label = out[out.size() - 2].label;
     }
-    s += d.norm();
+    for (std::size_t seg = 0; seg + 1 < corners.size(); ++seg) {
+      const Eigen::Vector3d d = corners[seg + 1].kappa - corners[seg].kappa;
+      for (int i = 1; i <= nk; ++i) {
+        const Eigen::Vector3d k = corners[seg].kappa + d * (static_cast<double>(i) / nk);
+        out.push_back({s + d.norm() * i / nk, k, i == nk ? corners[seg + 1].label : ""});
+      }
+      s += d.norm();
+    }
   }
+  return out;
+}
+
+std::vector<std::pair<double, Eigen::Vector3d>> path(const std::string& lattice, double a,
+                                                     const std::string& labels, int nk) {
+  std::vector<std::pair<double, Eigen::Vector3d>> out;
+  for (const auto& p : labelled_path(symmetry_points(lattice, a), lattice, labels, nk))
+    out.emplace_back(p.s, p.kappa);
   return out;
 }
 

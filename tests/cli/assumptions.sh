@@ -2,12 +2,13 @@
 # Checkable assumptions are checked (docs/elastic.md §2.1, docs/dispersion.md, docs/cli.md):
 #  1. Bravais-lattice assumption: `pdcg elastic --clamped-ion` on diamond Si (sw) warns that the
 #     constants are clamped-ion values (JSON lattice.basis = 2, clamped_ion = true); the default
-#     (relaxed-ion) gives no warning, nor does B2 (every atom a centre of inversion) or FCC. `pdcg dispersion --path` on hcp refuses (the
-#     neighbour-shell guess would call it fcc) and `--direction` on diamond warns that the
-#     optical branches are missing.
-#  2. `pdcg dispersion --path` on a lattice it cannot tell fails fast: a diamond Si body with a
-#     LAMMPS-fallback potential (tersoff/mod, linearised by central differences through
-#     embedded LAMMPS, seconds to minutes) must fail in well under 1.5 s of CPU time.
+#     (relaxed-ion) gives no warning, nor does B2 (every atom a centre of inversion) or FCC.
+#     `pdcg dispersion --path` on hcp takes the hcp lattice from the crystal (an fcc label is
+#     refused with hcp's labels; the neighbour-shell guess would call it fcc) and `--direction`
+#     on diamond warns that the optical branches are missing.
+#  2. `pdcg dispersion --path` with a label the lattice does not have fails fast: a diamond Si
+#     body with a LAMMPS-fallback potential (tersoff/mod, linearised by central differences
+#     through embedded LAMMPS, seconds to minutes) must fail in well under 1.5 s of CPU time.
 #  3. `pdcg forces --deformed` on a frame where pairs outside the families came within the
 #     cutoff warns with the --family-cutoff that keeps them; with that cutoff the forces match
 #     LAMMPS's on the frame (and there is no warning).
@@ -84,7 +85,7 @@ PY
 [ -s b2.err ] && { echo "elastic on B2 warned:"; cat b2.err; fail=1; }
 "$pdcg" dispersion hcp.h5 --path G-X -o hcp.csv > hcp.out 2>&1
 rc=$?
-[ $rc -eq 2 ] && grep -q "cannot tell the Bravais lattice: the crystal has a basis.*basis of 2 atoms.*optical branches are missing.*--cell" hcp.out ||
+[ $rc -eq 2 ] && grep -q "path label unknown for this lattice.*'X'.*one of G, M, K, A, L, H for lattice hcp" hcp.out ||
   { echo "dispersion --path on hcp: exit $rc"; cat hcp.out; fail=1; }
 [ -e hcp.csv ] && { echo "hcp.csv written despite the error"; fail=1; }
 "$pdcg" dispersion si.h5 --direction 1,0,0 --nk 4 -o si_d.csv > si_d.out 2>&1 || { cat si_d.out; fail=1; }
@@ -98,13 +99,13 @@ if "$pdcg" -q atoms2pd --input si.data --potential tm.pot -o tm.h5 2>/dev/null; 
   t=$(python3 -c "
 import resource, subprocess, sys
 with open('tm.out', 'w') as out:
-    rc = subprocess.run(['$pdcg', 'dispersion', 'tm.h5', '--path', 'G-X', '-o', 'tm.csv'], stdout=out, stderr=out).returncode
+    rc = subprocess.run(['$pdcg', 'dispersion', 'tm.h5', '--path', 'G-X-Q', '-o', 'tm.csv'], stdout=out, stderr=out).returncode
 r = resource.getrusage(resource.RUSAGE_CHILDREN)
 print(f'{rc} {r.ru_utime + r.ru_stime:.2f}')")
   rc=${t%% *}
   t=${t#* }
-  echo "  dispersion --path on a diamond tersoff/mod (LAMMPS fallback) body: exit $rc after $t s CPU"
-  [ "$rc" -eq 2 ] && grep -q "crystal has a basis" tm.out || { cat tm.out; fail=1; }
+  echo "  dispersion --path G-X-Q on a diamond tersoff/mod (LAMMPS fallback) body: exit $rc after $t s CPU"
+  [ "$rc" -eq 2 ] && grep -q "path label unknown for this lattice.*'Q'.*for lattice fcc" tm.out || { cat tm.out; fail=1; }
   # the old code linearised first: 6.6 s CPU (37 s wall on a shared machine) for this 216-atom
   # body; now 0.7 s CPU, 0.55 s of it reading the body (probing the LAMMPS fallback potential).
   # Limit 1.5 s: twice the measured, far below the old

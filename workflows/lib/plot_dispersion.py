@@ -4,7 +4,8 @@
 usage: plot_dispersion.py OUT.png TITLE CSV[:LABEL] [CSV[:LABEL] ...]   (several curves)
    or: plot_dispersion.py CSV OUT.png TITLE                              (what the CLI calls)
 Every column named omega* (not omega_ref*) is drawn against `kappa`; measured CSVs (with a
-`power` column) are drawn as points. Leading `#` lines are comments (pdcg's units line,
+`power` column) are drawn as points. A `# path labels: G@0 X@1.157 …` line (pdcg dispersion
+--path) puts the labelled points on the κ axis. Leading `#` lines are comments (pdcg's units line,
 docs/formats.md); the axis labels take their units from it.
 Errors (unreadable CSV, missing or read-only output directory, no matplotlib) give one line on
 stderr naming the file and exit status 2 — no traceback.
@@ -35,11 +36,20 @@ def read(path):
         data = {c: [float(r[c]) for r in rows] for c in cols}
     except (TypeError, ValueError) as e:
         raise PlotError(f"{path}: bad number in the CSV: {e}")
-    units = {}
-    for c in comments:  # "# pdcg dispersion: units metal; kappa, kx, ky, kz [1/Angstrom], omega* [rad/ps] …"
+    units, ticks = {}, []
+    for c in comments:
+        if c.startswith("# path labels:"):  # "# path labels: G@0 X@1.157 … K|U@7.0": corners
+            for t in c.split(":", 1)[1].split():
+                label, _, at = t.rpartition("@")
+                try:
+                    ticks.append((float(at), label.replace("G", "Γ")))
+                except ValueError:
+                    raise PlotError(f"{path}: bad path label {t!r} (expected LABEL@KAPPA)")
+            continue  # "# pdcg dispersion: units metal; kappa, kx, ky, kz [1/Angstrom], omega* [rad/ps] …"
         for names, unit in re.findall(r"([A-Za-z_*, ]+) \[([^\]]+)\]", c):
             for n in names.replace(",", " ").split():
                 units[n.rstrip("*")] = unit
+    units["ticks"] = ticks
     return k, data, "power" in rows[0], units
 
 
@@ -78,7 +88,15 @@ def main(argv):
                 ax.plot(k, w, "o", ms=4, label=lab, color=f"C{i}")
             else:
                 ax.plot(k, w, styles[i % 4], lw=1.5, label=lab, color=f"C{i}")
-    ax.set_xlabel(f"κ [{units.get('kappa', '1/length')}]")
+    ticks = units.get("ticks") or []
+    if ticks:  # a labelled path: corners as ticks, a line at each; κ is the path length
+        ax.set_xticks([t for t, _ in ticks], [l for _, l in ticks])
+        for t, _ in ticks:
+            ax.axvline(t, color="0.7", lw=0.6)
+        ax.set_xlim(ticks[0][0], ticks[-1][0])
+        ax.set_xlabel(f"path length along the labelled points [{units.get('kappa', '1/length')}]")
+    else:
+        ax.set_xlabel(f"κ [{units.get('kappa', '1/length')}]")
     ax.set_ylabel(f"ω [{units.get('omega', 'rad/time')}]")
     ax.set_title(title)
     ax.legend(fontsize=8)

@@ -19,7 +19,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <span>
 #include <string>
 #include <utility>
@@ -47,21 +46,23 @@ class LinearisedFamilies {
 
  private:
   const atomistic::Families* families_;
-  std::vector<std::int64_t> start_;  ///< per atom: start in k_ (−1 if absent)
+  std::vector<std::int64_t> start_;       ///< per atom: start in k_ (−1 if absent)
   std::vector<std::int64_t> bond_start_;  ///< per atom: start in xi_ (−1 if absent)
   std::vector<double> k_, xi_;
 };
 
 /// ω(κ) at one point made of weighted atoms (Bravais lattice assumption, see above).
-/// Returns the 3 frequencies in ascending order; a negative ω² (unstable mode) is returned as −√|ω²|.
-/// mvv2e converts mass·velocity² to energy (LAMMPS force->mvv2e: 1 in lj/si, 1.0364269e-4 in
-/// metal): ω² = eig(D)/(M·mvv2e), so ω is in inverse time units of the unit style.
-Eigen::Vector3d point_omega(const LinearisedFamilies& lin, std::span<const std::pair<std::int32_t, double>> atoms,
-                            std::span<const double> mass, const Eigen::Vector3d& kappa, double mvv2e = 1.0);
+/// Returns the 3 frequencies in ascending order; a negative ω² (unstable mode) is returned as
+/// −√|ω²|. mvv2e converts mass·velocity² to energy (LAMMPS force->mvv2e: 1 in lj/si, 1.0364269e-4
+/// in metal): ω² = eig(D)/(M·mvv2e), so ω is in inverse time units of the unit style.
+Eigen::Vector3d point_omega(const LinearisedFamilies& lin,
+                            std::span<const std::pair<std::int32_t, double>> atoms,
+                            std::span<const double> mass, const Eigen::Vector3d& kappa,
+                            double mvv2e = 1.0);
 
 /// ω(κ) of a periodic cell with a basis: all 3N branches, ascending (same sign convention).
-Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass, const Eigen::Vector3d& kappa,
-                           double mvv2e = 1.0);
+Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double> mass,
+                           const Eigen::Vector3d& kappa, double mvv2e = 1.0);
 
 /// A named high-symmetry point, in Cartesian reciprocal coordinates (units 1/length).
 struct SymmetryPoint {
@@ -69,10 +70,33 @@ struct SymmetryPoint {
   Eigen::Vector3d kappa;
 };
 
-/// High-symmetry points of a lattice ("fcc", "bcc", "sc", "hex" (2D triangular, in the xy
-/// plane), "chain" (along x)) with lattice constant a (cubic: conventional cube edge; hex and
-/// chain: nearest-neighbour spacing). Throws InputError for an unknown lattice.
-std::vector<SymmetryPoint> symmetry_points(const std::string& lattice, double a);
+/// High-symmetry points of a lattice in its standard orientation ("fcc", "bcc", "sc", "hcp"
+/// (3D hexagonal, a₁ = a(1,0,0), a₂ = a(½,√3/2,0), a₃ = c(0,0,1); needs c > 0), "hex" (2D
+/// triangular, same a₁, a₂, in the xy plane), "chain" (along x)) with lattice constant a (cubic:
+/// conventional cube edge; hcp, hex and chain: in-plane spacing). Labels and coordinates
+/// follow Setyawan & Curtarolo, Comput. Mater. Sci. 49 (2010) 299 (docs/dispersion.md).
+/// Throws InputError for an unknown lattice.
+std::vector<SymmetryPoint> symmetry_points(const std::string& lattice, double a, double c = 0.0);
+
+/// The default path of a lattice (`--path auto`): Setyawan–Curtarolo's, with '|' for a jump
+/// (fcc G-X-W-K-G-L-U-W-L-K|U-X, bcc G-H-N-G-P-H|P-N, sc G-X-M-G-R-X|M-R, hcp
+/// G-M-K-G-A-L-H-A|L-M|K-H, hex G-M-K-G, chain G-X).
+std::string default_path(const std::string& lattice);
+
+/// One κ of a path: cumulative length s (a jump '|' does not advance it), κ, and the label
+/// when κ is a corner of the path ("" between corners; "X|U" at a jump).
+struct PathPoint {
+  double s = 0.0;
+  Eigen::Vector3d kappa;
+  std::string label;
+};
+
+/// Points along a path "G-X-W|U-X" (labels of `points`, G = Γ; '|' a jump), nk per segment.
+/// Throws InputError naming an unknown label and listing the valid ones for `lattice` (the
+/// name used in the message).
+std::vector<PathPoint> labelled_path(const std::vector<SymmetryPoint>& points,
+                                     const std::string& lattice, const std::string& labels,
+                                     int nk_per_segment);
 
 /// Points along a path "G-X-K-G-L" (labels as in symmetry_points; G = Γ), nk per segment.
 /// Returns κ and the cumulative path length. Throws InputError naming an unknown label and

@@ -35,12 +35,13 @@ TEST(ClosedForm, ConstantMicromodulusBar) {
   // Long waves: ρω² → C κ² δ³/3 (the local limit E = C δ³/3 of Silling 2000)
   const double rho = 2.0, c = 3.0, delta = 0.5;
   const double k = 1e-4;
-  EXPECT_NEAR(constant_micromodulus_omega(k, rho, c, delta), k * std::sqrt(c * delta * delta * delta / 3 / rho),
-              1e-12);
+  EXPECT_NEAR(constant_micromodulus_omega(k, rho, c, delta),
+              k * std::sqrt(c * delta * delta * delta / 3 / rho), 1e-12);
   // A κ where the direct formula holds: 2C(δ − sin κδ / κ)
   const double k2 = 7.0;
   EXPECT_NEAR(constant_micromodulus_omega(k2, rho, c, delta),
               std::sqrt(2 * c * (delta - std::sin(k2 * delta) / k2) / rho), 1e-14);
   // Short waves saturate: ω² → 2Cδ/ρ
-  EXPECT_NEAR(constant_micromodulus_omega(1e7, rho, c, delta), std::sqrt(2 * c * delta / rho), 1e-6);
+  EXPECT_NEAR(constant_micromodulus_omega(1e7, rho, c, delta), std::sqrt(2 * c * delta / rho),
+              1e-6);
 }
