@@ -210,6 +210,33 @@ InputError& with_line(const Scene& s, InputError& e) {
   return e;
 }
 
+EffectRuns attach_effects(const Scene& s, const RunContext& context) {
+  EffectRuns runs;
+  for (const auto& e : s.effect_objects)
+    if (auto run = e->attach(context)) {
+      log::info("effect {}: {} column{}", e->name(), run->columns().size(),
+                run->columns().size() == 1 ? "" : "s");
+      runs.emplace_back(e->name(), std::move(run));
+    }
+  return runs;
+}
+
+std::string effect_values(const EffectRuns& runs, const StepState& state, const char* format) {
+  std::string out;
+  for (const auto& [name, run] : runs) {
+    std::vector<double> values;
+    run->on_step(state, values);
+    if (values.size() != run->columns().size())
+      throw Error(fmt::format("effect {} gave {} values for {} columns", name, values.size(),
+                              run->columns().size()));
+    for (double v : values) {
+      out.push_back(',');
+      fmt::format_to(std::back_inserter(out), fmt::runtime(format), v);
+    }
+  }
+  return out;
+}
+
 Eigen::VectorXd vec_of(const std::vector<double>& v) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }

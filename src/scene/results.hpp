@@ -55,6 +55,12 @@ void finish_checkpoint(io::H5Writer& h5, const std::filesystem::path& dir, long 
 /// An InputError of the solver set-up as an error of the scene file (file:line of its key).
 InputError& with_line(const Scene& s, InputError& e);
 
+/// The run parts of the scene's listed effects that have one, with their names.
+using EffectRuns = std::vector<std::pair<std::string, std::unique_ptr<EffectRun>>>;
+EffectRuns attach_effects(const Scene& s, const RunContext& context);
+/// ",v1,v2,…" of every column of the runs after a step (values in format `fmt`).
+std::string effect_values(const EffectRuns& runs, const StepState& state, const char* fmt);
+
 Eigen::VectorXd vec_of(const std::vector<double>& v);
 std::vector<double> std_of(const Eigen::VectorXd& v);
 

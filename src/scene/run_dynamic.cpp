@@ -61,6 +61,8 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
               solver::to_string(s.rupture_options.criterion), s.rupture_options.critical,
               s.rupture_options.check_every, s.rupture_options.check_every == 1 ? "" : "s");
   }
+  const RunContext context{s, dir, body, model, material, dsets, true};
+  const auto runs = attach_effects(s, context);
   log::info("explicit dynamics: {} steps of {:.6g} to t = {:.6g} (stable limit {:.6g}, {:.3g}×)",
             steps, dt, s.end_time, ex->stable_limit(), dt / ex->stable_limit());
   // initial velocity (free components only; prescribed ones follow ū(t))
@@ -103,6 +105,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
       throw InputError("the checkpoint does not fit the scene's body")
           .source(restart->file.string());
     ex->restore(st);
+    for (const auto& [name, run] : runs) run->restore(*restart->h5, "effects/" + name);
     dt = ex->time_step();
     csv << restart->series;
     written = restart->written;
@@ -114,6 +117,8 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
         if (ds.component[a]) csv << "," << ds.name << "_f" << axes[a];
     if (!s.damping_type.empty()) csv << ",damping_coefficient";
     if (rupture) csv << ",broken_bonds";
+    for (const auto& [name, run] : runs)
+      for (const auto& col : run->columns()) csv << "," << col;
     csv << "\n";
   }
   auto sample = [&](long n) {
@@ -130,6 +135,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     }
     if (!s.damping_type.empty()) csv << "," << fmt::format("{:.17g}", ex->damping_coefficient());
     if (rupture) csv << "," << body.broken_bonds();
+    csv << effect_values(runs, {n, ex->time(), ex->displacement(), &ex->velocity()}, "{:.17g}");
     csv << "\n";
     return ek + ei;
   };
@@ -143,6 +149,8 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                  static_cast<int>(n), [&](io::H5Writer& h5) {
                    h5.attribute("/", "step", static_cast<std::int64_t>(n));
                    h5.attribute("/", "time", ex->time());
+                   for (const auto& [name, run] : runs)
+                     run->write_fields(h5, {n, ex->time(), ex->displacement(), &ex->velocity()});
                  });
     written.emplace_back(static_cast<int>(n), ex->time());
     write_xdmf(dir, N, written, s.rupture, true);
@@ -220,6 +228,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
         const auto po = body.suppressed_point_stencils();
         h5->write("rupture/point_stencils_off", std::vector<std::int64_t>(po.begin(), po.end()));
       }
+      for (const auto& [name, run] : runs) run->checkpoint(*h5, "effects/" + name);
       finish_checkpoint(*h5, dir, n);
     }
     if (n % progress_every == 0)  // formatting the line allocates: not every step

@@ -104,6 +104,9 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     log::info("rupture: {} > {} breaks a bond; staggered re-equilibration at fixed load",
               solver::to_string(s.rupture_options.criterion), s.rupture_options.critical);
   }
+  // the run parts of the listed effects that have one (registered effects; effect.hpp)
+  const RunContext context{s, dir, body, model, *material, dsets, false};
+  const auto runs = attach_effects(s, context);
   begin_outputs();
   const int d = s.dimension;
   const std::size_t N = body.size();
@@ -124,6 +127,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
                            ? restart->h5->read_int("rupture/point_stencils_off")
                            : std::vector<std::int64_t>{});
     }
+    for (const auto& [name, run] : runs) run->restore(*restart->h5, "effects/" + name);
     solver.restore(vec_of(restart->vec("state/u")), vec_of(restart->vec("state/f")), restart->t,
                    static_cast<int>(restart->h5->attribute_int("/", "solver_step")));
     csv << restart->series;
@@ -135,12 +139,15 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       for (int a = 0; a < d; ++a)
         if (ds.component[a]) csv << "," << ds.name << "_f" << axes[a];
     if (rupture) csv << ",broken_bonds";
+    for (const auto& [name, run] : runs)
+      for (const auto& col : run->columns()) csv << "," << col;
     csv << "\n";
     csv << "0,0";
     for (std::size_t i = 0; i < dsets.size(); ++i)
       for (int a = 0; a < d; ++a)
         if (dsets[i].component[a]) csv << ",0";
     if (rupture) csv << ",0";
+    csv << effect_values(runs, {0, 0.0, solver.displacement(), nullptr}, "{:.10g}");
     csv << "\n";
   }
   auto write_csv = [&] {
@@ -159,6 +166,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
         if (dsets[i].component[a]) csv << "," << fmt::format("{:.10g}", r(a));
     }
     if (rupture) csv << "," << body.broken_bonds();
+    csv << effect_values(runs, {rep.step, rep.t, solver.displacement(), nullptr}, "{:.10g}");
     csv << "\n";
     write_csv();
     ++counter;
@@ -171,6 +179,8 @@ void run_scene(const Scene& s, const RunOptions& ro) {
                    h5.attribute("/", "newton_iterations",
                                 static_cast<std::int64_t>(rep.iterations));
                    h5.attribute("/", "residual", rep.residual);
+                   for (const auto& [name, run] : runs)
+                     run->write_fields(h5, {rep.step, rep.t, solver.displacement(), nullptr});
                  });
     written.emplace_back(rep.step, rep.t);
     write_xdmf(dir, N, written, s.rupture);
@@ -197,6 +207,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
         h5->write("rupture/anchor_points", std::vector<std::int64_t>(ap.begin(), ap.end()));
         h5->write("rupture/anchor_targets", model.anchor_targets());
       }
+      for (const auto& [name, run] : runs) run->checkpoint(*h5, "effects/" + name);
       finish_checkpoint(*h5, dir, k);
     }
     progress.update(static_cast<std::uint64_t>(k), progress_text());
