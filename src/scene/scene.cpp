@@ -60,7 +60,27 @@ Parts parts(const Scene* s) {
   return p;
 }
 
+/// The components' numeric rules, in the order of the root keys (a rule's section is the first
+/// segment of its path).
+std::vector<NumberRule> rules_of(const Parts& p) {
+  const auto keyed = p.keyed();
+  std::map<std::string, std::vector<NumberRule>> by_section;
+  std::vector<const Component*> seen;
+  for (const auto& e : keyed) {
+    if (std::find(seen.begin(), seen.end(), e.component) != seen.end()) continue;
+    seen.push_back(e.component);
+    for (auto& r : e.component->number_rules())
+      by_section[r.path.substr(0, r.path.find_first_of(".["))].push_back(std::move(r));
+  }
+  std::vector<NumberRule> rules;
+  for (const auto& e : keyed)
+    for (auto& r : by_section[e.section.key]) rules.push_back(std::move(r));
+  return rules;
+}
+
 }  // namespace
+
+std::vector<NumberRule> number_rules() { return rules_of(parts(nullptr)); }
 
 Scene load_scene(const std::filesystem::path& file) {
   Ctx c{file.string()};
@@ -80,18 +100,7 @@ Scene load_scene(const std::filesystem::path& file) {
   for (const auto& e : keyed) keys.push_back(e.section.key);
   c.keys(root, "", keys);
   // every number first, from the components' rules: type, sign, range, finite
-  std::map<std::string, std::vector<NumberRule>> by_section;
-  std::vector<const Component*> seen;
-  for (const auto& e : keyed) {
-    if (std::find(seen.begin(), seen.end(), e.component) != seen.end()) continue;
-    seen.push_back(e.component);
-    for (auto& r : e.component->number_rules())
-      by_section[r.path.substr(0, r.path.find_first_of(".["))].push_back(std::move(r));
-  }
-  std::vector<NumberRule> rules;
-  for (const auto& k : keys)
-    for (auto& r : by_section[k]) rules.push_back(std::move(r));
-  checks::numbers(root, c.file, rules);
+  checks::numbers(root, c.file, rules_of(p));
   s.key_lines = checks::key_lines(root);
   const Reader reader(c.file);
   const Node rootn(root);

@@ -108,6 +108,9 @@ struct NumberRule {
   std::string expected;
 };
 
+/// The numeric rules of every component and registered effect, in the order they are checked.
+std::vector<NumberRule> number_rules();
+
 /// A root section a component owns, with its place in the parse order and in the resolved
 /// scene (lower first; equal ranks keep the order of registration).
 struct Section {

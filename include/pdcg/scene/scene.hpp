@@ -35,8 +35,10 @@
 /// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
 /// Displacement and traction values are numbers (constant) or expressions in t.
 /// Unknown keys are errors listing the valid ones. Every numeric key is checked for type, sign,
-/// range and finiteness (one table, src/scene/checks.cpp), contradictions between keys and with
-/// the body are refused, all before the output directory is created (docs/solver.md §6).
+/// range and finiteness (the rules each component declares, component.hpp), contradictions
+/// between keys and with the body are refused, all before the output directory is created
+/// (docs/solver.md §6). Each root section is read by a component (docs/architecture.md, "Scene
+/// components"); materials and effects come from registries (material_model.hpp, effect.hpp).
 /// Effects (docs/effects.md):
 /// \code{.yaml}
 ///   effects: [rupture]

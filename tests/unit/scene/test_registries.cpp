@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "pdcg/core/error.hpp"
@@ -52,8 +53,8 @@ class StVenantKirchhoff final : public solver::Material {
           for (int b = 0; b < 2; ++b)
             for (int L = 0; L < 2; ++L)
               (*A)(solver::flat(a, J), solver::flat(b, L)) =
-                  (a == b ? S(L, J) : 0.0) + lambda_ * F(a, J) * F(b, L) +
-                  mu_ * F(a, L) * F(b, J) + (J == L ? mu_ * FFt(a, b) : 0.0);
+                  (a == b ? S(L, J) : 0.0) + lambda_ * F(a, J) * F(b, L) + mu_ * F(a, L) * F(b, J) +
+                  (J == L ? mu_ * FFt(a, b) : 0.0);
     }
     return true;
   }
@@ -145,8 +146,8 @@ class StrainProbe final : public scene::Effect {
  public:
   std::vector<scene::NumberRule> number_rules() const override {
     using K = scene::NumberRule::Kind;
-    return {{"strain_probe.scale", K::real, 0, true, std::numeric_limits<double>::infinity(),
-             true, "a factor > 0"}};
+    return {{"strain_probe.scale", K::real, 0, true, std::numeric_limits<double>::infinity(), true,
+             "a factor > 0"}};
   }
   void parse(const std::string&, const scene::Reader& r, const scene::Node& root,
              scene::Scene& s) override {
@@ -158,8 +159,7 @@ class StrainProbe final : public scene::Effect {
       const auto a = r.choice(n["axis"], "strain_probe.axis", {"x", "y", "z"});
       axis_ = a == "x" ? 0 : a == "y" ? 1 : 2;
       if (axis_ >= s.dimension)
-        throw r.error(n["axis"], "strain_probe.axis", "axis beyond the scene dimension")
-            .value(a);
+        throw r.error(n["axis"], "strain_probe.axis", "axis beyond the scene dimension").value(a);
     }
     if (n["scale"]) scale_ = r.number(n["scale"], "strain_probe.scale");
   }
@@ -242,6 +242,13 @@ TEST(Registries, ListBuiltInsFirstThenRegistered) {
   EXPECT_EQ(scene::valid_effects(), scene::registered_effects());
   EXPECT_EQ(scene::registered_materials(),
             (std::vector<std::string>{"neo-hookean", "cauchy-born", "st-venant-kirchhoff"}));
+  // the numeric rules: the built-in components' 41 (one per row of test_scene_checks.cpp) and
+  // this file's 3, each path once
+  const auto rules = scene::number_rules();
+  EXPECT_EQ(rules.size(), 41u + 3u);
+  std::set<std::string> paths;
+  for (const auto& r : rules) EXPECT_TRUE(paths.insert(r.path).second) << r.path;
+  EXPECT_TRUE(paths.count("material.lambda") && paths.count("strain_probe.scale"));
   EXPECT_THROW(scene::register_effect("rupture", [] { return std::make_unique<StrainProbe>(); }),
                Error);
 }
@@ -278,8 +285,7 @@ TEST(Registries, OwnParametersAreParsedCheckedAndResolved) {
   EXPECT_NE(e.find("material.mu: out of range"), std::string::npos) << e;
   // a key of another model: refused with the model's own keys
   e = error_of(replace(kScene, "mu: 1.0", "mu: 1.0, shear_modulus: 2.0"));
-  EXPECT_NE(e.find("material model st-venant-kirchhoff takes no shear_modulus"),
-            std::string::npos)
+  EXPECT_NE(e.find("material model st-venant-kirchhoff takes no shear_modulus"), std::string::npos)
       << e;
   e = error_of(replace(kScene, "model: st-venant-kirchhoff", "model: st-venant"));
   EXPECT_NE(e.find("one of: neo-hookean, cauchy-born, st-venant-kirchhoff"), std::string::npos)
