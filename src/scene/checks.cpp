@@ -15,88 +15,7 @@ namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
 
-enum class Kind {
-  real,         ///< a finite number
-  integer,      ///< an integer (2.5 is refused, not truncated)
-  real_or_fn,   ///< a finite number, or an expression (checked where it is evaluated)
-  real_or_auto  ///< a finite number or the word auto
-};
-
-/// One numeric key: its path ("a.b[].c": [] = every item of the list a.b), its kind and the
-/// accepted range [lo, hi] (open at an end when lo_open / hi_open).
-struct Rule {
-  const char* path;
-  Kind kind;
-  double lo;
-  bool lo_open;
-  double hi;
-  bool hi_open;
-  const char* expected;
-};
-
-// Every number a scene reads (src/scene/scene.cpp; docs/solver.md §6, docs/effects.md).
-// A key added to the parser must be added here (tests/unit/scene/test_scene_checks.cpp feeds
-// every row a bad value).
-const Rule kRules[] = {
-    {"dimension", Kind::integer, 2, false, 3, false, "2 or 3"},
-    {"geometry.origin[]", Kind::real, -inf, true, inf, true, "a finite coordinate"},
-    {"geometry.size[]", Kind::real, 0, true, inf, true, "a body length > 0"},
-    {"geometry.spacing", Kind::real, 0, true, inf, true, "a grid spacing > 0, e.g. 0.025"},
-    {"geometry.holes[].center[]", Kind::real, -inf, true, inf, true, "a finite coordinate"},
-    {"geometry.holes[].radius", Kind::real, 0, true, inf, true, "a radius > 0"},
-    {"geometry.cracks[].from[]", Kind::real, -inf, true, inf, true, "a finite coordinate"},
-    {"geometry.cracks[].to[]", Kind::real, -inf, true, inf, true, "a finite coordinate"},
-    {"horizon.factor", Kind::real, 1, false, inf, true,
-     "a factor ≥ 1 (the horizon in grid spacings, usually 3.015)"},
-    {"horizon.value", Kind::real, 0, true, inf, true,
-     "a horizon > 0 (a length, at least the grid spacing)"},
-    {"material.shear_modulus", Kind::real, 0, true, inf, true, "a shear modulus > 0"},
-    {"material.bulk_modulus", Kind::real, 0, true, inf, true, "a bulk modulus > 0"},
-    {"material.density", Kind::real, 0, true, inf, true, "a mass density > 0"},
-    {"boundary[].region.x_min", Kind::real, -inf, true, inf, true, "a finite bound"},
-    {"boundary[].region.x_max", Kind::real, -inf, true, inf, true, "a finite bound"},
-    {"boundary[].region.y_min", Kind::real, -inf, true, inf, true, "a finite bound"},
-    {"boundary[].region.y_max", Kind::real, -inf, true, inf, true, "a finite bound"},
-    {"boundary[].region.z_min", Kind::real, -inf, true, inf, true, "a finite bound"},
-    {"boundary[].region.z_max", Kind::real, -inf, true, inf, true, "a finite bound"},
-    {"boundary[].region.point[]", Kind::real, -inf, true, inf, true, "a finite coordinate"},
-    {"boundary[].displacement.x", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in t"},
-    {"boundary[].displacement.y", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in t"},
-    {"boundary[].displacement.z", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in t"},
-    {"boundary[].traction[]", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in t"},
-    {"loading.steps", Kind::integer, 1, false, inf, true, "an integer ≥ 1 (load steps)"},
-    {"solver.tolerance", Kind::real, 0, true, 1, true,
-     "a relative residual 0 < tolerance < 1, e.g. 1e-8 (≥ 1 would accept the unloaded state)"},
-    {"solver.max_iterations", Kind::integer, 1, false, inf, true,
-     "an integer ≥ 1 (Newton iterations per step)"},
-    {"solver.max_cutbacks", Kind::integer, 0, false, inf, true,
-     "an integer ≥ 0 (step halvings; 0 = none)"},
-    {"output.every", Kind::integer, 1, false, inf, true, "an integer ≥ 1 (steps between outputs)"},
-    {"output.series_every", Kind::integer, 1, false, inf, true,
-     "an integer ≥ 1 (time steps between series samples)"},
-    {"output.checkpoint_every", Kind::integer, 1, false, inf, true,
-     "an integer ≥ 1 (remove the key for no checkpoints)"},
-    {"inertia.time_step", Kind::real_or_auto, 0, true, inf, true, "auto or a time step > 0"},
-    {"inertia.safety", Kind::real, 0, true, 1, false,
-     "0 < safety ≤ 1, e.g. 0.8 (1 is the stable limit itself)"},
-    {"inertia.end_time", Kind::real, 0, true, inf, true, "an end time > 0"},
-    {"damping.coefficient", Kind::real, 0, true, inf, true,
-     "a viscous coefficient > 0 (remove damping for undamped motion)"},
-    {"rupture.critical", Kind::real, 0, true, inf, true,
-     "a critical value > 0 (a stretch > 1, or an energy density > 0)"},
-    {"rupture.max_passes", Kind::integer, 1, false, inf, true, "an integer ≥ 1"},
-    {"rupture.check_every", Kind::integer, 1, false, inf, true, "an integer ≥ 1 (time steps)"},
-    {"initial.velocity.x", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in x, y, z"},
-    {"initial.velocity.y", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in x, y, z"},
-    {"initial.velocity.z", Kind::real_or_fn, -inf, true, inf, true,
-     "a finite number or an expression in x, y, z"},
-};
+using Kind = NumberRule::Kind;
 
 YAML::Node child(const YAML::Node& n, const std::string& key) {
   if (!n.IsDefined() || !n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
@@ -148,7 +67,8 @@ std::string shown(const YAML::Node& n) {
   return "(nothing)";
 }
 
-void check(const Rule& r, const YAML::Node& n, const std::string& key, const std::string& file) {
+void check(const NumberRule& r, const YAML::Node& n, const std::string& key,
+           const std::string& file) {
   auto fail = [&](const std::string& problem) {
     InputError e(problem);
     e.source(file).key(key).value(shown(n)).expected(r.expected);
@@ -214,8 +134,9 @@ const char* kAxes[3] = {"x", "y", "z"};
 
 }  // namespace
 
-void numbers(const YAML::Node& root, const std::string& file) {
-  for (const auto& r : kRules) {
+void numbers(const YAML::Node& root, const std::string& file,
+             const std::vector<NumberRule>& rules) {
+  for (const auto& r : rules) {
     std::vector<std::pair<YAML::Node, std::string>> found;
     collect(root, split(r.path), 0, "", found);
     for (const auto& [n, key] : found) check(r, n, key, file);

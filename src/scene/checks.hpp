@@ -1,6 +1,7 @@
 /// \file
 /// Checks of a scene before anything runs or is written (docs/solver.md §6):
-///  - numbers(): every numeric key a scene reads, from one table (type, sign, range, finite);
+///  - numbers(): every numeric key a scene reads, from the rules the components declare (type,
+///    sign, range, finite);
 ///  - key_lines(): the line of every key, for errors raised after parsing;
 ///  - consistency(): contradictions visible in the parsed scene (empty regions, a point region
 ///    with bounds, values that are not finite at the load factors or times the run visits);
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/scene/component.hpp"
 #include "pdcg/scene/scene.hpp"
 #include "pdcg/solver/newton.hpp"
 
@@ -24,9 +26,9 @@ class Node;
 
 namespace pdcg::scene::checks {
 
-/// Checks every numeric key of the table in checks.cpp that the scene gives. Throws InputError
-/// with file, line, key, the bad value and the accepted range.
-void numbers(const YAML::Node& root, const std::string& file);
+/// Checks every numeric key of `rules` that the scene gives, in order. Throws InputError with
+/// file, line, key, the bad value and the accepted range.
+void numbers(const YAML::Node& root, const std::string& file, const std::vector<NumberRule>& rules);
 
 /// "key.path" → 1-based line, for every key of the scene (boundary items as boundary[NAME],
 /// NAME = the item's name or set<index>; other list items as key[index]).

@@ -35,8 +35,10 @@
 /// inclusive bounds with a tolerance of half a spacing, or the nearest `point`.
 /// Displacement and traction values are numbers (constant) or expressions in t.
 /// Unknown keys are errors listing the valid ones. Every numeric key is checked for type, sign,
-/// range and finiteness (one table, src/scene/checks.cpp), contradictions between keys and with
-/// the body are refused, all before the output directory is created (docs/solver.md §6).
+/// range and finiteness (the rules each component declares, component.hpp), contradictions
+/// between keys and with the body are refused, all before the output directory is created
+/// (docs/solver.md §6). Each root section is read by a component (docs/architecture.md, "Scene
+/// components"); materials and effects come from registries (material_model.hpp, effect.hpp).
 /// Effects (docs/effects.md):
 /// \code{.yaml}
 ///   effects: [rupture]
@@ -58,6 +60,8 @@
 #include <vector>
 
 #include "pdcg/core/units.hpp"
+#include "pdcg/scene/effect.hpp"
+#include "pdcg/scene/material_model.hpp"
 #include "pdcg/solver/discretization.hpp"
 #include "pdcg/solver/material.hpp"
 #include "pdcg/solver/model.hpp"
@@ -115,6 +119,9 @@ struct Scene {
   /// `material.per_point: true`: point p uses W_p of the model (body::PerPointCauchyBornMaterial);
   /// needs geometry.shape: model on the same file.
   bool material_per_point = false;
+  /// The model of `material.model` with its own parameters (material_model.hpp); null for a
+  /// Scene built in code (make_material then takes a fresh model of material_model).
+  std::shared_ptr<const MaterialModel> material_impl;
   std::vector<BoundaryCondition> boundary;
   int steps = 20;
   solver::NewtonOptions newton;
@@ -124,6 +131,9 @@ struct Scene {
   int output_every = 1;
   /// `effects:` (docs/effects.md). Only what is listed is computed, allocated and written.
   std::vector<std::string> effects;
+  /// The listed effects with their parameters (effect.hpp), in the registry's order; the
+  /// built-in ones also fill the fields below.
+  std::vector<std::shared_ptr<const Effect>> effect_objects;
   bool rupture = false;
   solver::RuptureOptions rupture_options;
   /// `inertia:` (explicit dynamics); without it the run is quasi-static (Newton).
@@ -151,7 +161,7 @@ struct RunOptions {
   std::optional<std::filesystem::path> restart;  ///< continue from the last checkpoint there
 };
 
-/// Effects a scene may list, and those this build runs.
+/// Effects a scene may list, and those this build runs: the registered ones (effect.hpp).
 const std::vector<std::string>& valid_effects();
 
 /// The discretisation of the scene's geometry (grid, or the model file's points).

@@ -190,7 +190,7 @@ TEST(SceneChecks, BaseScenesAreValid) {
 }
 
 TEST(SceneChecks, EveryNumericKeyRefusesBadValuesWithFileLineAndKey) {
-  EXPECT_EQ(cases().size(), 41u);  // one row per key of the table in src/scene/checks.cpp
+  EXPECT_EQ(cases().size(), 41u);  // one row per numeric rule of the built-in components (scene::number_rules)
   for (const auto& c : cases()) {
     ASSERT_EQ(std::string(c.base).find(c.find), std::string(c.base).rfind(c.find))
         << "not unique: " << c.find;
