@@ -44,7 +44,26 @@ if [ "${1:-}" = --build ]; then  # --build [target...]: only build (default: eve
   cmake --build "$B" -j"${PDCG_JOBS:-2}" "${targets[@]}"
   exit 0
 fi
-cmake --build "$B" -j"${PDCG_JOBS:-2}"
+# What to build: PDCG_ASAN_TARGETS="test_atomistic test_io" builds only those (a quick local
+# check; give ctest a selection of their tests, e.g. -L '^(atomistic|io)$'). Default, when the
+# selection leaves out `cli` (the CI one): every test_* executable but test_body_cli, and the
+# fuzz harnesses — not the `pdcg` executable, which only `cli` tests run (~18 % of the
+# build). Otherwise everything.
+exclude=${PDCG_ASAN_EXCLUDE:-slow|cli}
+targets=()
+skip_unbuilt=()
+if [ -n "${PDCG_ASAN_TARGETS:-}" ]; then
+  read -ra targets <<<"--target $PDCG_ASAN_TARGETS"
+  skip_unbuilt=(-E '_NOT_BUILT$')
+elif [ $# = 0 ] && [[ "|$exclude|" == *"|cli|"* ]]; then
+  targets=(--target fuzz_all)
+  while read -r t; do
+    [ "$t" = test_body_cli ] || targets+=("$t")
+  done < <(ninja -C "$B" -t targets all | sed -n 's/^\(test_[a-z_0-9]*\): CXX_EXECUTABLE.*/\1/p' | sort -u)
+  # gtest_discover_tests adds a placeholder <target>_NOT_BUILT for an executable not built
+  skip_unbuilt=(-E '_NOT_BUILT$')
+fi
+cmake --build "$B" -j"${PDCG_JOBS:-2}" "${targets[@]}"
 
 S=$HERE/sanitizers
 # file:line in the reports (llvm-14; ASan looks for a plain llvm-symbolizer in PATH otherwise)
@@ -54,9 +73,40 @@ S=$HERE/sanitizers
 # the third-party leaks of lsan.supp suppressed.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:abort_on_error=0:print_stacktrace=1:detect_leaks=1:detect_stack_use_after_return=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1:suppressions=$S/ubsan.supp}
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$S/lsan.supp:print_suppressions=0}
+# Leaks: reported without failing the process (exitcode=0) and judged after the run, below:
+# Debian's Open MPI (under liblammps, initialised by every test that embeds LAMMPS) leaks a
+# few strings at start-up from components it has unloaded by the time LSan checks at exit;
+# those stacks have no module name, so no suppression can name them.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$S/lsan.supp:print_suppressions=0:exitcode=0}
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-PASSIVE}
+# Open MPI (under liblammps) unloads its components before LSan's check at exit, which makes
+# their start-up leaks unattributable (<unknown module>): keep them loaded where it honours
+# this (fewer such reports). libomp would load LLVM's OpenMP tool libarcher, which leaks a
+# string: no tool.
+export OMPI_MCA_mca_base_component_disable_dlclose=${OMPI_MCA_mca_base_component_disable_dlclose:-1}
+export OMP_TOOL=${OMP_TOOL:-disabled}
 cd "$B"
 args=("$@")
-[ ${#args[@]} = 0 ] && args=(-LE "${PDCG_ASAN_EXCLUDE:-slow|cli}")
-ctest --output-on-failure -j"${PDCG_JOBS:-2}" --timeout 1800 "${args[@]}"
+[ ${#args[@]} = 0 ] && args=(-LE "$exclude")
+args+=("${skip_unbuilt[@]}")
+log=$B/sanitize-ctest.log
+status=0
+ctest -V -j"${PDCG_JOBS:-2}" --timeout 1800 "${args[@]}" >"$log" 2>&1 || status=$?
+grep -E '^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|Total Test time|\*\*\*' "$log" | tail -40
+# A leak is a finding when its allocation stack has a pdcg frame (a function in namespace
+# pdcg or a file under src/, tests/ or include/ of this tree); third-party-only stacks are
+# listed but not fatal (see LSAN_OPTIONS above).
+ours=$(awk -v root="$PDCG_ROOT" '
+  { t = ($1 ~ /^[0-9]+:$/) ? $1 : "-" }  # ctest -V -j prefixes each line with "N: "
+  /ERROR: LeakSanitizer/ { inblk[t] = 1; blk[t] = ""; hit[t] = 0 }
+  inblk[t] { blk[t] = blk[t] $0 "\n"
+    if ($0 ~ /pdcg::/ || index($0, root "/src/") || index($0, root "/tests/") || index($0, root "/include/")) hit[t] = 1 }
+  inblk[t] && /SUMMARY: AddressSanitizer/ { inblk[t] = 0; if (hit[t]) printf "%s", blk[t] }' "$log")
+others=$(grep -c 'ERROR: LeakSanitizer' "$log" || true)
+if [ -n "$ours" ]; then
+  echo "$ours"
+  echo "sanitize: leaks with pdcg frames (full log: $log)" >&2
+  status=1
+fi
+echo "sanitize: $others leak report(s) in all, third-party only unless listed above; log: $log"
+exit "$status"
