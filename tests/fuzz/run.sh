@@ -43,7 +43,11 @@ seed_only=" ${PDCG_FUZZ_SEED_ONLY-model_file h5_result} "
 failed=()
 for n in "${names[@]}"; do
   work=$B/fuzz/corpus/$n
-  tmp=$B/fuzz/tmp/$n  # per harness: two harnesses may run at once (two invocations)
+  # scratch files of the harness (readers take paths): per harness, since two harnesses may
+  # run at once; on tmpfs when there is one: ext4 writes back a truncated-and-rewritten file
+  # at close, which made a dump harness spend most of its time in the kernel
+  tmp=$B/fuzz/tmp/$n
+  [ -d /dev/shm ] && [ -w /dev/shm ] && tmp=/dev/shm/pdcg-fuzz-$$/$n
   mkdir -p "$work" "$B/fuzz/artifacts" "$tmp"
   # PDCG_FUZZ_RUNS alone: that many executions; with PDCG_FUZZ_SECONDS too: whichever
   # comes first (a campaign with a deadline)
@@ -54,7 +58,7 @@ for n in "${names[@]}"; do
   [[ "$seed_only" == *" $n "* ]] && limit=(-runs=0)
   echo "== fuzz_$n ${limit[*]}"
   # -timeout: one input taking > 10 s is a finding (a hang); -rss_limit_mb: an input that
-  # makes a reader allocate > 2 GiB is a finding. Scratch files go to build-checks/fuzz/tmp/<name>.
+  # makes a reader allocate > 2 GiB is a finding.
   if TMPDIR=$tmp "$X/fuzz_$n" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$B/fuzz/artifacts/$n-" \
       "$work" "$HERE/corpus/$n" 2>"$B/fuzz/$n.log"; then
@@ -67,6 +71,7 @@ for n in "${names[@]}"; do
   fi
   rm -rf "$tmp"
 done
+rmdir "/dev/shm/pdcg-fuzz-$$" 2>/dev/null || true
 if [ ${#failed[@]} -gt 0 ]; then
   echo "fuzz: findings in ${failed[*]}" >&2
   exit 1
