@@ -780,11 +780,11 @@ class EamModel final : public Potential {
       const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
       if (rsq < e_.cutforcesq) {
         const int jt = f.neighbor_type[b];
-        double p = std::sqrt(rsq) * e_.rdr + 1.0;
-        int m = static_cast<int>(p);
-        m = std::min(m, e_.nr - 1);
-        p -= m;
-        p = std::min(p, 1.0);
+        // LAMMPS's m = min((int) p, nr − 1) and p ≤ 1, without converting a p beyond the int
+        // range (a cutoff far past the table) to int: undefined behaviour
+        int m = 0;
+        bool clamped = false;
+        const double p = eam::locate(std::sqrt(rsq), e_.rdr, e_.nr, m, clamped);
         const double* coeff =
             e_.rhor_spline[static_cast<std::size_t>(
                                e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
