@@ -807,11 +807,9 @@ class EamModel final : public Potential {
       if (rsq < e_.cutforcesq && !(f.pair_factor && f.pair_factor[b] == 0.0)) {
         const int jt = f.neighbor_type[b];
         const double r = std::sqrt(rsq);
-        double q = r * e_.rdr + 1.0;
-        int mm = static_cast<int>(q);
-        mm = std::min(mm, e_.nr - 1);
-        q -= mm;
-        q = std::min(q, 1.0);
+        int mm = 0;  // as pass 1: the row without an int conversion of an out-of-range q
+        bool clamped = false;
+        const double q = eam::locate(r, e_.rdr, e_.nr, mm, clamped);
         const double* c1 = e_.rhor_spline[static_cast<std::size_t>(
                                               e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
                                .data() +
