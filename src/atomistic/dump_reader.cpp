@@ -503,6 +503,8 @@ Atoms DumpReader::Impl::parse(std::size_t n, const FrameNeeds* needs) {
     const auto& c = plan.columns[j];
     const auto k = static_cast<std::size_t>(c.component);
     Sink& s = sinks[j];
+    // column k of an N×3 array; null for a frame of zero atoms (nullptr + k is undefined)
+    auto at = [](auto& v, std::size_t off) { return v.empty() ? nullptr : v.data() + off; };
     switch (c.dest) {
       case Dest::skip:
         s = {Sink::skip, nullptr, 1};
@@ -523,16 +525,16 @@ Atoms DumpReader::Impl::parse(std::size_t n, const FrameNeeds* needs) {
         s = {Sink::f64, a.mass.data(), 1};
         break;
       case Dest::pos:
-        s = {Sink::f64, a.x.data() + k, 3};
+        s = {Sink::f64, at(a.x, k), 3};
         break;
       case Dest::image:
-        s = {Sink::i32, a.image.data() + k, 3};
+        s = {Sink::i32, at(a.image, k), 3};
         break;
       case Dest::vel:
-        s = {Sink::f64, a.v.data() + k, 3};
+        s = {Sink::f64, at(a.v, k), 3};
         break;
       case Dest::force:
-        s = {Sink::f64, a.f.data() + k, 3};
+        s = {Sink::f64, at(a.f, k), 3};
         break;
       case Dest::extra:
         s = {Sink::f64, extra[k]->data(), 1};

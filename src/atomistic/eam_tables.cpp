@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
@@ -362,9 +363,9 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
     // 4-point Lagrange interpolation of a file's table onto the common grid
     auto lagrange = [&](const std::vector<double>& tab, int nfile, double dfile, double r) {
       double p = r / dfile + 1.0;
-      int k = static_cast<int>(p);
-      k = std::min(k, nfile - 2);
-      k = std::max(k, 2);
+      // LAMMPS's max(min((int) p, nfile − 2), 2), without the undefined int conversion of a
+      // p beyond the int range
+      const int k = std::max(eam::cell(p, std::numeric_limits<int>::min(), nfile - 2), 2);
       p -= k;
       p = std::min(p, 2.0);
       const double cof1 = -sixth * p * (p - 1.0) * (p - 2.0);

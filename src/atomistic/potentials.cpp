@@ -780,11 +780,11 @@ class EamModel final : public Potential {
       const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
       if (rsq < e_.cutforcesq) {
         const int jt = f.neighbor_type[b];
-        double p = std::sqrt(rsq) * e_.rdr + 1.0;
-        int m = static_cast<int>(p);
-        m = std::min(m, e_.nr - 1);
-        p -= m;
-        p = std::min(p, 1.0);
+        // LAMMPS's m = min((int) p, nr − 1) and p ≤ 1, without converting a p beyond the int
+        // range (a cutoff far past the table) to int: undefined behaviour
+        int m = 0;
+        bool clamped = false;
+        const double p = eam::locate(std::sqrt(rsq), e_.rdr, e_.nr, m, clamped);
         const double* coeff =
             e_.rhor_spline[static_cast<std::size_t>(
                                e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
@@ -807,11 +807,9 @@ class EamModel final : public Potential {
       if (rsq < e_.cutforcesq && !(f.pair_factor && f.pair_factor[b] == 0.0)) {
         const int jt = f.neighbor_type[b];
         const double r = std::sqrt(rsq);
-        double q = r * e_.rdr + 1.0;
-        int mm = static_cast<int>(q);
-        mm = std::min(mm, e_.nr - 1);
-        q -= mm;
-        q = std::min(q, 1.0);
+        int mm = 0;  // as pass 1: the row without an int conversion of an out-of-range q
+        bool clamped = false;
+        const double q = eam::locate(r, e_.rdr, e_.nr, mm, clamped);
         const double* c1 = e_.rhor_spline[static_cast<std::size_t>(
                                               e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)])]
                                .data() +

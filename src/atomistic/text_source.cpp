@@ -279,7 +279,7 @@ std::unique_ptr<ByteSource> ByteSource::open(const std::string& path) {
 
 LineReader::LineReader(ByteSource& source, std::size_t chunk_bytes)
     : src_(source), chunk_(chunk_bytes) {
-  buf_.resize(chunk_);
+  buf_.resize(std::min(chunk_, kInitialBytes));
 }
 
 bool LineReader::refill() {
@@ -291,13 +291,21 @@ bool LineReader::refill() {
     end_ = keep;
     pos_ = 0;
   }
-  if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // one line longer than the buffer
+  if (end_ == buf_.size()) {
+    buf_.resize(buf_.size() * 2);  // one line longer than the buffer
+  } else if (buf_.size() < chunk_ && streamed_ >= buf_.size()) {
+    // a buffer's worth read since the last growth: a larger file, larger reads (a small file,
+    // or seeks within one, never grow it)
+    buf_.resize(std::min(chunk_, buf_.size() * 2));
+    streamed_ = 0;
+  }
   const std::size_t got = src_.read(buf_.data() + end_, buf_.size() - end_);
   if (got == 0) {
     eof_ = true;
     return false;
   }
   end_ += got;
+  streamed_ += got;
   return true;
 }
 

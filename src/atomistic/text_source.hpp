@@ -35,8 +35,15 @@ class ByteSource {
 
 /// Buffered line reader. Lines are returned without the trailing '\n' (a
 /// trailing '\r' is left in place; callers treat it as a blank).
+///
+/// The buffer starts at kInitialBytes and doubles, up to `chunk_bytes`, each time a buffer's
+/// worth of the file has been read through it, so a small file costs one 64 KiB buffer
+/// (opening one is cheap, e.g. thousands of small inputs in a fuzzing run) while a large file
+/// is read in `chunk_bytes` pieces after a few refills. A line longer than the buffer doubles
+/// it further, whatever its size.
 class LineReader {
  public:
+  static constexpr std::size_t kInitialBytes = std::size_t{64} << 10;
   explicit LineReader(ByteSource& source, std::size_t chunk_bytes = std::size_t{8} << 20);
 
   /// Next line, or false at end of file. The view stays valid until the next call.
@@ -53,9 +60,10 @@ class LineReader {
   bool refill();  // keeps [pos_, end_), reads more; false if nothing more
   ByteSource& src_;
   std::vector<char> buf_;
-  std::size_t chunk_;
+  std::size_t chunk_;  // the size the buffer grows to by refills (not a limit on line length)
   std::size_t pos_ = 0, end_ = 0;
   std::uint64_t buf_offset_ = 0;  // file offset of buf_[0]
+  std::size_t streamed_ = 0;      // bytes read into the buffer since it last grew
   long line_no_ = 0;
   bool eof_ = false;
 };

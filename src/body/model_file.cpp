@@ -269,6 +269,20 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   const auto lo = r.read_double("box/lo"), hi = r.read_double("box/hi"),
              tilt = r.read_double("box/tilt");
   const auto per = r.read_int("box/periodic");
+  // fixed-length datasets: a wrong length is refused before any element is read
+  auto need_length = [&](const char* key, std::size_t got, std::size_t want) {
+    if (got != want)
+      throw InputError("dataset of the wrong length")
+          .source(src)
+          .key(key)
+          .value(std::to_string(got) + " values")
+          .expected(std::to_string(want) + " values")
+          .fix("the file is damaged or not written by pdcg atoms2pd; write it again");
+  };
+  need_length("box/lo", lo.size(), 3);
+  need_length("box/hi", hi.size(), 3);
+  need_length("box/tilt", tilt.size(), 3);
+  need_length("box/periodic", per.size(), 3);
   b.box.lo = {lo[0], lo[1], lo[2]};
   b.box.hi = {hi[0], hi[1], hi[2]};
   b.box.xy = tilt[0];
@@ -298,6 +312,7 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   if (r.exists("families/pair_factor")) f.pair_factor = r.read_double("families/pair_factor");
   if (r.exists("families/bond_type")) f.bond_type = narrow<int>(r.read_int("families/bond_type"));
   const auto hv = r.read_double("families/h");
+  need_length("families/h", hv.size(), 9);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) f.h(i, j) = hv[static_cast<std::size_t>(3 * i + j)];
   b.base_horizon = r.attribute_double("/families", "base_horizon");
@@ -327,6 +342,8 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   if (r.exists("potential/type_mass")) s.type_mass = r.read_double("potential/type_mass");
   const auto sl = r.read_double("potential/special_lj"),
              sc = r.read_double("potential/special_coul");
+  need_length("potential/special_lj", sl.size(), 3);
+  need_length("potential/special_coul", sc.size(), 3);
   for (std::size_t k = 0; k < 3; ++k) {
     s.special_lj[k] = sl[k];
     s.special_coul[k] = sc[k];

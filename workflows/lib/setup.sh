@@ -21,8 +21,9 @@ PDCG_PACKAGES=(
   python3-dev pybind11-dev python3-pytest python3-ase python3-yaml  # the Python module (docs/python.md)
 )
 # Extra packages of the sanitizer and fuzzing checks (tests/sanitize.sh, tests/fuzz/run.sh):
-# clang and libFuzzer. Installed only when PDCG_CHECKS=1 (those scripts set it).
-PDCG_CHECK_PACKAGES=(clang-14 libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev)
+# clang, libFuzzer, the sanitizer runtimes, clang's OpenMP, llvm-symbolizer (file:line in the
+# reports). Installed when PDCG_CHECKS=1 (tests/run.sh's default, and those scripts set it).
+PDCG_CHECK_PACKAGES=(clang-14 libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev llvm-14)
 
 pdcg_missing_packages() {
   local missing=() p status wanted=("${PDCG_PACKAGES[@]}")

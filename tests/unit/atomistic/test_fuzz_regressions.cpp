@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <cmath>
+#include <fstream>
 #include <string>
 
 #include "pdcg/atomistic/dump_reader.hpp"
 #include "pdcg/atomistic/eam_spline.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
 #include "scratch_dir.hpp"
 
 using namespace pdcg;
@@ -61,4 +65,48 @@ TEST(FuzzRegression, EamEmbeddingOfHugeNegativeDensityUsesRowOne) {
   EXPECT_EQ(e.value, 2.0 * p + 3.0);
   EXPECT_EQ(e.first, 1.0);
   EXPECT_EQ(e.second, 0.0);
+}
+
+// fuzz_eam: a funcfl file whose cutoff (4.7e8) lies far past its r table (nr·dr = 4.8): a bond
+// inside that cutoff gave r/dr + 1 > 2^31, converted to int for the density row (UB; UBSan:
+// "outside the range of representable values of type 'int'"; in a normal build the row index
+// became INT_MIN). LAMMPS's row choice min((int) p, nr − 1) is kept without the conversion: the
+// last row at p = 1. With constant tables the density and F are constant (F′ = 0), and the
+// pair term is φ = z2r/r with z2r constant, so the force state scales as 1/r² exactly: the
+// bond at 5e9 (UB before) is compared with the bond at 2e9 (p < 2^31, defined before too).
+TEST(FuzzRegression, EamBondFarPastTheRadialTableUsesTheLastRow) {
+  test::ScratchDir dir("fuzz_eam_row");
+  const std::string path = dir / "const.eam";
+  {
+    std::ofstream f(path);
+    f << "constant tables\n29 63.55 3.615 FCC\n5 0.1 5 1.0 1e10\n";
+    for (int k = 0; k < 5; ++k) f << "0 ";  // F(rho) = 0
+    f << "\n";
+    for (int k = 0; k < 5; ++k) f << "1 ";  // Z(r) = 1
+    f << "\n";
+    for (int k = 0; k < 5; ++k) f << "0.5 ";  // rho(r) = 0.5
+    f << "\n";
+  }
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units metal\npair_style eam\npair_coeff * * " + path + "\n", "fuzz.in", 1);
+  const auto pot = atomistic::make_potential(spec);
+  auto force_at = [&](double r) {
+    const double bond[3] = {r, 0.0, 0.0};
+    const int type[1] = {1};
+    atomistic::FamilyState fs;
+    fs.type = 1;
+    fs.size = 1;
+    fs.neighbor_type = type;
+    fs.bond = bond;
+    std::vector<double> t(3, 0.0);
+    (void)pot->force_state(fs, t.data());
+    return t;
+  };
+  const auto far = force_at(5e9), near = force_at(2e9);
+  ASSERT_TRUE(std::isfinite(far[0]));
+  ASSERT_NE(near[0], 0.0);
+  // 1/r² scaling: (5e9/2e9)² = 6.25; tolerance: two divisions by r² in double precision
+  EXPECT_NEAR(near[0] / far[0], 6.25, 1e-12);
+  EXPECT_EQ(far[1], 0.0);
+  EXPECT_EQ(far[2], 0.0);
 }
