@@ -3,6 +3,7 @@ a crystal with a basis gets its primitive cell's 3n branches along a labelled pa
 CLI's CSV; a defective crystal is refused with the CLI's message in Python's option names.
 On the code before the shared plan both fail: the binding refused --path on a crystal with a
 basis ("cannot tell the Bravais lattice") and computed one-point curves for a vacancy body."""
+import os
 import re
 import subprocess
 
@@ -31,8 +32,8 @@ def si_body(tmp_path, lmp, pdcg_exe, name, vacancy=False):
     subprocess.run([pdcg_exe, "-q", "atoms2pd", "--input", str(tmp_path / f"{name}.data"),
                     "--potential", str(tmp_path / "sw.pot"), "-o", str(tmp_path / f"{name}.h5")],
                    check=True, capture_output=True,
-                   env={"LAMMPS_POTENTIALS": "/usr/share/lammps/potentials", "OMP_NUM_THREADS": "1",
-                        "PATH": "/usr/bin:/bin"})
+                   env={**os.environ, "LAMMPS_POTENTIALS": os.environ.get(
+                       "LAMMPS_POTENTIALS", "/usr/share/lammps/potentials")})
     return str(tmp_path / f"{name}.h5")
 
 
