@@ -515,7 +515,8 @@ def elastic(body: Body, F=None) -> Elastic:
 @dataclass
 class Dispersion:
     """Model dispersion ω(κ) (docs/theory.md §5): ω² = eig(D_p(κ)/M_p) at one point (3
-    branches) or of the periodic cell (3N). kappa: path length (or |κ|), kvec: κ (n, 3),
+    branches), of a crystal's primitive cell of n basis atoms (3n, docs/dispersion.md "Crystals
+    with a basis") or of the periodic cell (3N). kappa: path length (or |κ|), kvec: κ (n, 3),
     omega: (n, branches), ascending; an unstable mode (ω² < 0) is −√|ω²|. labels: (position,
     label) of the path's corners."""
     kappa: np.ndarray
@@ -560,9 +561,12 @@ def dispersion(body: Body, path: Optional[str] = None, *, direction=None, nk: in
                kmax: Optional[float] = None, lattice: Optional[str] = None,
                a: Optional[float] = None, point: Optional[int] = None,
                cell: bool = False) -> Dispersion:
-    """Model dispersion of a body, as `pdcg dispersion` (docs/theory.md §5): along a path of
-    high-symmetry labels ("G-X-W-K-G-L"; lattice and a from the neighbour shell unless given)
-    or along `direction` up to the zone edge (or `kmax`); nk points per segment. `point`: the
+    """Model dispersion of a body, the same library call as `pdcg dispersion` (docs/theory.md
+    §5, docs/dispersion.md): along a path of high-symmetry labels ("G-X-W-K-G-L" or "auto")
+    or along `direction` up to the zone edge (or `kmax`); nk points per segment. On a path, a
+    perfect crystal with a basis of n atoms gives its primitive cell's 3n branches (lattice from
+    the crystal), a Bravais lattice the one-point ones (lattice and a from the neighbour shell
+    unless both given); a defective or random crystal is refused (InputError). `point`: the
     atom or homogenised point (default: nearest the box centre); `cell=True`: all atoms of a
     periodic body as the basis (3N folded branches)."""
     return Dispersion(**_pdcg._dispersion(body, path or "", direction, nk, kmax, lattice or "",

@@ -45,6 +45,7 @@
 #include "pdcg/core/version.hpp"
 #include "pdcg/dispersion/body_dispersion.hpp"
 #include "pdcg/dispersion/model.hpp"
+#include "pdcg/dispersion/plan.hpp"
 #include "pdcg/scene/scene.hpp"
 
 namespace py = pybind11;
@@ -947,57 +948,45 @@ wendland-c2 (width: support radius; σ for gaussian). A regular grid of `spacing
                 .expected("e.g. (1, 0, 0)");
           dir = Eigen::Vector3d(v[0], v[1], v[2]).normalized();
         }
-        double a = a_in.value_or(0.0);
+        dispersion::DispersionRequest request;
+        request.path = path;
+        if (path.empty()) {
+          request.direction = dir;
+          const auto v = py::cast<std::vector<double>>(direction);
+          request.direction_text = fmt::format("({}, {}, {})", v[0], v[1], v[2]);
+        }
+        request.nk = nk;
+        request.kmax = kmax.value_or(0.0);
+        request.lattice = lattice;
+        request.a = a_in.value_or(0.0);
+        request.point = point;
+        request.cell = cell;
+        // the option names of pdcg.dispersion in the messages (the CLI's are the defaults)
+        dispersion::DispersionOptionNames names;
+        names.path = "path";
+        names.path_auto = "path='auto'";
+        names.direction = "direction";
+        names.lattice = "lattice";
+        names.a = "a";
+        names.cell = "cell=True";
+        names.point = "point";
         std::vector<std::pair<double, Eigen::Vector3d>> ks;
         std::vector<std::pair<double, std::string>> labels;
         std::vector<Eigen::VectorXd> omega;
         std::string description;
+        double a = 0.0;
         {
           py::gil_scoped_release release;
-          // one-point dispersion is that of a Bravais lattice site (as `pdcg dispersion`)
-          if (!cell) {
-            const auto lat = body::detect_lattice(b);
-            if (lat.perfect && !lat.bravais()) {
-              const std::string what = fmt::format(
-                  "{} — one-point dispersion gives 3 branches: the {} optical branches are "
-                  "missing",
-                  lat.summary, 3 * (lat.basis - 1));
-              if (!path.empty() && (lattice.empty() || !(a > 0)))
-                throw InputError("cannot tell the Bravais lattice: the crystal has a basis")
-                    .key("path")
-                    .value(what)
-                    .fix("cell=True on a periodic body of one cell, or give lattice= and a=");
-              log::warn("{}. Fix: cell=True on a periodic body of one primitive cell", what);
-            }
-          }
-          const std::size_t rep = cell ? 0 : dispersion::representative_atom(b, point);
-          if (!path.empty()) {
-            if (lattice.empty() || !(a > 0)) {
-              const auto g = dispersion::detect_lattice(b, rep);
-              if (lattice.empty()) lattice = g.lattice;
-              if (!(a > 0)) a = g.a;
-            }
-            ks = dispersion::path(lattice, a, path, nk);
-            std::stringstream ss(path);
-            std::string label;
-            std::size_t i = 0;
-            while (std::getline(ss, label, '-')) {
-              labels.emplace_back(ks[std::min(i, ks.size() - 1)].first, label);
-              i += static_cast<std::size_t>(nk);
-            }
-          }
-          const dispersion::BodyDispersion model(b, point, cell);
-          description = model.description();
-          if (path.empty()) {
-            double km = kmax.value_or(0.0);
-            if (!(km > 0))
-              km = dispersion::zone_edge(b, model.representative_atom(), dir, "direction");
-            for (int i = 0; i <= nk; ++i) {
-              const double k = km * i / nk;
-              ks.emplace_back(k, k * dir);
-            }
-          }
-          for (const auto& [s, k] : ks) omega.push_back(model.omega(k));
+          // the selection of `pdcg dispersion` (crystal with a basis: 3n branches;
+          // dispersion/plan.hpp)
+          const auto plan = dispersion::plan_dispersion(b, request, names);
+          ks = plan.kappa;
+          labels = plan.corners();
+          lattice = plan.lattice;
+          a = plan.a;
+          description = plan.description();
+          omega.reserve(ks.size());
+          for (const auto& [s, k] : ks) omega.push_back(plan.omega(k));
         }
         const auto n = static_cast<py::ssize_t>(ks.size());
         const auto nb = static_cast<py::ssize_t>(omega.empty() ? 0 : omega[0].size());

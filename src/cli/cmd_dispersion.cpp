@@ -26,6 +26,7 @@
 #include "pdcg/dispersion/body_dispersion.hpp"
 #include "pdcg/dispersion/crystal.hpp"
 #include "pdcg/dispersion/curves.hpp"
+#include "pdcg/dispersion/plan.hpp"
 #include "pdcg/dispersion/trajectory.hpp"
 #include "pdcg/io/atomic_output.hpp"
 #include "pdcg/io/png.hpp"
@@ -260,34 +261,6 @@ void check_plot_target(const std::string& png) {
 /// 3 of its 3n branches (no optical branches; acoustic ones of atoms moving without their basis
 /// partners): a warning, or — when --path would guess the lattice from the neighbour shell (hcp
 /// looks like fcc) — a refusal. Runs before the model is linearised (seconds for big families).
-void check_bravais(const pdcg::body::Body& body, const Options& o, const char* mode) {
-  if (o.cell) return;  // every atom of the box is a basis atom: any crystal
-  const auto lat = pdcg::body::detect_lattice(body);
-  if (lat.bravais()) return;
-  if (!lat.perfect) {
-    pdcg::log::info(
-        "{}: the dispersion is that of one point and its family as if it were a Bravais "
-        "lattice site",
-        lat.summary);
-    return;
-  }
-  const std::string what = fmt::format(
-      "{} — one-point dispersion gives 3 branches: the {} optical branches are missing and the "
-      "acoustic ones are those of atoms that move without their basis partners",
-      lat.summary, 3 * (lat.basis - 1));
-  const std::string fix =
-      "use --path without --lattice/--a (e.g. --path auto): all 3n branches of the primitive "
-      "cell along a labelled path; or --cell for the folded branches of the whole periodic box";
-  if (std::string(mode) == "--path" && (o.lattice.empty() || !(o.a > 0)))
-    throw pdcg::InputError("cannot tell the Bravais lattice: the crystal has a basis")
-        .source(o.body)
-        .key("--path")
-        .value(what)
-        .expected("a Bravais lattice (one atom per primitive cell) for the neighbour-shell guess")
-        .fix(fix + "; or pass --lattice and --a for the one-point curves anyway");
-  pdcg::log::warn("{}: {}. Fix: {}", mode, what, fix);
-}
-
 int run_grid(const Options& o) {
   if (!o.plot.empty() || !o.compare.empty())
     throw pdcg::InputError("--grid writes the whole κ-grid; it has no curve to plot or compare")
@@ -295,7 +268,8 @@ int run_grid(const Options& o) {
         .expected("--grid without --plot and --compare")
         .fix("use --direction or --path for curves");
   const pdcg::body::Body body = pdcg::body::read_body(o.body);
-  check_bravais(body, o, "--grid");
+  pdcg::dispersion::check_one_point_lattice(body, o.cell, "--grid", !o.lattice.empty() && o.a > 0,
+                                            o.body);
   const pdcg::dispersion::BodyDispersion model(
       body,
       o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt,
@@ -337,123 +311,35 @@ int run_model(const Options& o) {
     throw pdcg::InputError("--nk must be at least 1").key("--nk").value(std::to_string(o.nk));
   check_plot_target(o.plot);
   const pdcg::body::Body body = pdcg::body::read_body(o.body);
-  const std::optional<std::size_t> point =
-      o.point >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(o.point)) : std::nullopt;
-  // lattice checks first: they take well under a second, the linearisation may take long
-  std::string lattice = o.lattice;
-  double a = o.a;
-  std::vector<std::pair<double, Eigen::Vector3d>> ks;
-  std::vector<std::string> labels;  // per κ: its path label ("" between corners)
-  std::unique_ptr<pdcg::dispersion::CrystalDispersion> crystal;
-  const bool explicit_lattice = !o.lattice.empty() && o.a > 0;
-  if (!o.path.empty() && !o.cell && !explicit_lattice) {
-    // the crystal decides: its lattice (and orientation) from body::detect_lattice; a crystal
-    // with a basis gets its primitive cell's 3n branches, a Bravais lattice the one-point ones
-    const auto info = pdcg::body::detect_lattice(body);
-    if (!info.perfect)
-      throw pdcg::InputError(
-          "--path needs a perfect crystal: high-symmetry paths and branches "
-          "belong to a primitive cell")
-          .source(o.body)
-          .key("--path")
-          .value(info.summary)
-          .expected(
-              "a body whose every atom is one of n equally populated lattice sites "
-              "(no vacancies, interstitials, surfaces, displaced atoms or random species)")
-          .fix(
-              "compute the dispersion of the perfect crystal's body (e.g. the ordered alloy, "
-              "before the defect); for this body use --cell (folded branches of the whole "
-              "periodic box), or --lattice and --a for the one-point curves of the --point's "
-              "environment");
-    // every atom its own class: the box holds no lattice translation. A body of one primitive
-    // cell looks like this (a few atoms); a random alloy or a disordered box of many atoms does
-    // too, and its "primitive cell" would be the whole box — refused above 16 atoms.
-    if (info.basis > 16 && static_cast<std::size_t>(info.basis) == body.size())
-      throw pdcg::InputError(
-          "--path needs a perfect crystal: no two of the body's atoms are "
-          "lattice translates of each other")
-          .source(o.body)
-          .key("--path")
-          .value(fmt::format("{} atoms, {} different environments (a random alloy, an amorphous "
-                             "or perturbed box: not a perfect crystal)",
-                             body.size(), info.basis))
-          .expected(
-              "a perfect crystal: atoms repeated by lattice translations inside the box "
-              "(a primitive cell of at most 16 atoms is accepted as the whole box)")
-          .fix(
-              "compute the dispersion of the ordered crystal's body; for this box as it is use "
-              "--cell (its 3N folded branches, the box taken as the repeating cell)");
-    if (!info.bravais()) {
-      const auto cl = pdcg::dispersion::classify_lattice(info, body.dimension, o.body);
-      pdcg::log::info("{} ({})", cl.summary, info.summary);
-      const std::string spec =
-          o.path == "auto" ? pdcg::dispersion::default_path(cl.lattice) : o.path;
-      for (const auto& p : pdcg::dispersion::labelled_path(cl.points, cl.lattice, spec, o.nk)) {
-        ks.emplace_back(p.s, p.kappa);
-        labels.push_back(p.label);
-      }
-      if (body.homogenisation) {
-        pdcg::log::info(
-            "homogenised body: the model has 3 degrees of freedom per point, so 3 branches — "
-            "the atoms of the point (all {} basis sites) move together (no optical branches)",
-            info.basis);
-      } else {
-        crystal = std::make_unique<pdcg::dispersion::CrystalDispersion>(body, info);
-      }
-    }
-  }
-  if (!crystal && ks.empty()) {
-    check_bravais(body, o, o.path.empty() ? "--direction" : "--path");
-    const std::size_t rep = o.cell ? 0 : pdcg::dispersion::representative_atom(body, point);
-    if (!o.path.empty()) {
-      if (lattice.empty() || !(a > 0)) {
-        const auto g = pdcg::dispersion::detect_lattice(body, rep);
-        if (lattice.empty()) lattice = g.lattice;
-        if (!(a > 0)) a = g.a;
-        pdcg::log::info("lattice {} with a = {:.6g} (nearest neighbours: {} at {:.6g})", lattice, a,
-                        g.coordination, g.nearest);
-      }
-      const std::string spec = o.path == "auto" ? pdcg::dispersion::default_path(lattice) : o.path;
-      for (const auto& p : pdcg::dispersion::labelled_path(
-               pdcg::dispersion::symmetry_points(lattice, a), lattice, spec, o.nk)) {
-        ks.emplace_back(p.s, p.kappa);
-        labels.push_back(p.label);
-      }
-    }
-  }
-  std::unique_ptr<pdcg::dispersion::BodyDispersion> point_model;
-  if (!crystal)
-    point_model = std::make_unique<pdcg::dispersion::BodyDispersion>(body, point, o.cell);
-  auto omega = [&](const Eigen::Vector3d& k) -> Eigen::VectorXd {
-    return crystal ? crystal->omega(k) : point_model->omega(k);
-  };
-  const std::string description = crystal ? crystal->description() : point_model->description();
+  pdcg::dispersion::DispersionRequest request;
+  request.path = o.path;
   if (o.path.empty()) {
-    const Eigen::Vector3d dir = parse_vector(o.direction, "--direction").normalized();
-    double kmax = o.kmax;
-    if (!(kmax > 0)) {
-      // zone edge along the direction (chain: π/h; fcc [100]: 2π/a; fcc [111]: √3π/a)
-      kmax = pdcg::dispersion::zone_edge(body, point_model->representative_atom(), dir,
-                                         "--direction", o.direction);
-    }
-    for (int i = 0; i <= o.nk; ++i) {
-      const double k = kmax * i / o.nk;
-      ks.emplace_back(k, k * dir);
-    }
+    request.direction = parse_vector(o.direction, "--direction").normalized();
+    request.direction_text = o.direction;
   }
+  request.nk = o.nk;
+  request.kmax = o.kmax;
+  request.lattice = o.lattice;
+  request.a = o.a;
+  if (o.point >= 0) request.point = static_cast<std::size_t>(o.point);
+  request.cell = o.cell;
+  request.source = o.body;
+  // the selection (crystal with a basis, one point, --cell) and its checks: dispersion/plan.hpp
+  const auto plan = pdcg::dispersion::plan_dispersion(body, request);
+  const auto& ks = plan.kappa;
+  auto omega = [&](const Eigen::Vector3d& k) -> Eigen::VectorXd { return plan.omega(k); };
+  const std::string description = plan.description();
   Curves ref;
   if (!o.compare.empty()) ref = read_curves(o.compare);
   pdcg::io::AtomicTextFile csv(o.output);
   const auto first = omega(ks[0].second);
   const auto nb = static_cast<std::size_t>(first.size());
   csv.stream() << units_line(body);
-  if (!labels.empty()) {
+  if (!plan.labels.empty()) {
     // second comment line: the path's labelled corners at their kappa (path length)
     csv.stream() << "# path labels:";
-    for (std::size_t i = 0; i < labels.size(); ++i)
-      if (!labels[i].empty() &&
-          (i == 0 || labels[i] != labels[i - 1] || ks[i].first != ks[i - 1].first))
-        csv.stream() << fmt::format(" {}@{:.17g}", labels[i], ks[i].first);
+    for (const auto& [s, label] : plan.corners())
+      csv.stream() << fmt::format(" {}@{:.17g}", label, s);
     csv.stream() << "\n";
   }
   csv.stream() << "kappa";
