@@ -224,11 +224,25 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
   box.lo = Eigen::Vector3d::Constant(-0.5);  // LAMMPS defaults when a line is absent
   box.hi = Eigen::Vector3d::Constant(0.5);
   std::string_view content;
+  std::array<bool, 3> got_box{false, false, false};
+  // LAMMPS takes −0.5 .. 0.5 for an axis without its line, silently; a data file written by
+  // hand that forgot one gets a box the atoms may not fit: said once per file.
+  auto warn_default_box = [&] {
+    static constexpr std::array<const char*, 3> kLines{"xlo xhi", "ylo yhi", "zlo zhi"};
+    for (std::size_t k = 0; k < 3; ++k)
+      if (!got_box[k])
+        log::warn(
+            "{}: no '{}' header line: LAMMPS's default {} .. {} is used along {} (add the line "
+            "if the atoms lie elsewhere)",
+            path_, kLines[k], box.lo[static_cast<Eigen::Index>(k)],
+            box.hi[static_cast<Eigen::Index>(k)], "xyz"[k]);
+  };
   while (next_content(content, &comment)) {
     split_blanks(content, tok_);
     if (starts_alpha(content)) {  // the first section keyword ends the header
       first_section = content;
       more = true;
+      warn_default_box();
       return;
     }
     // "<numbers> <keywords>": split at the first alphabetic token.
@@ -246,6 +260,7 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
     };
     auto box_pair = [&](int axis, const char* name) {
       need(2);
+      got_box[static_cast<std::size_t>(axis)] = true;
       box.lo[axis] = parse_double(tok_[0], {path_, ln, name});
       box.hi[axis] = parse_double(tok_[1], {path_, ln, name});
       if (!(box.hi[axis] > box.lo[axis]))
@@ -277,6 +292,7 @@ void Parser::header(std::string_view& first_section, std::string_view& comment, 
     }
   }
   more = false;
+  warn_default_box();
 }
 
 void Parser::refuse_xyz(std::string_view first) {

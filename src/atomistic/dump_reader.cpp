@@ -457,6 +457,21 @@ void DumpReader::Impl::require(std::size_t n, const FrameNeeds& needs) const {
 Atoms DumpReader::Impl::parse(std::size_t n, const FrameNeeds* needs) {
   const DumpFrameInfo& fi = frames[n];
   const auto& cols = column_sets[fi.column_set];
+  // A column pdcg reads that appears twice (`ITEM: ATOMS id x x y z`) is ambiguous: the two may
+  // hold different quantities. Refused rather than taking the first (other names are kept as
+  // extra columns, the second renamed name#N).
+  static constexpr std::array<const char*, 26> kRead{
+      "id", "type", "mol", "q",   "mass", "x",  "y",  "z",  "xu", "yu", "zu", "xs", "ys",
+      "zs", "xsu",  "ysu", "zsu", "ix",   "iy", "iz", "vx", "vy", "vz", "fx", "fy", "fz"};
+  for (const char* name : kRead)
+    if (std::count(cols.begin(), cols.end(), name) > 1)
+      fail_at(fi.atoms_line - 1,
+              fmt::format("column '{}' appears more than once in ITEM: ATOMS of frame {} "
+                          "(timestep {})",
+                          name, n, fi.timestep),
+              fmt::format("ITEM: ATOMS {}", fmt::join(cols, " ")), "each column once",
+              "write the dump with each column once (e.g. `dump 1 all custom 100 traj.dump id "
+              "type x y z`); pdcg does not guess which of the two is meant");
   PositionChoice pos = choose_positions(cols);
   // Read positions when they can give Atoms::x: all three axes (or, for an operation, the axes
   // it needs), and fractional columns only as one complete set in a tilted box.

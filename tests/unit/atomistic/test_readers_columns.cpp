@@ -226,7 +226,14 @@ TEST_F(Columns, DataFileSecondAtomsSection) {
   // no Masses section, no box lines: LAMMPS's defaults (NaN masses, box −0.5 .. 0.5)
   const auto n =
       write("nm.data", "t\n\n1 atoms\n1 atom types\n\nAtoms # atomic\n\n1 1 0.1 0.2 0.3\n");
+  testing::internal::CaptureStderr();
   const auto d = read_data(n);
+  const std::string said = testing::internal::GetCapturedStderr();
+  // ... with one warning per missing box line, naming the line and the default
+  EXPECT_NE(said.find("no 'xlo xhi' header line: LAMMPS's default -0.5 .. 0.5 is used along x"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find("no 'zlo zhi' header line"), std::string::npos) << said;
   EXPECT_TRUE(std::isnan(d.atoms.type_mass.at(1)));
   EXPECT_EQ(d.atoms.box.lo.x(), -0.5);
   EXPECT_EQ(d.atoms.box.hi.z(), 0.5);
@@ -241,6 +248,20 @@ void no_crash(F&& f, const std::string& what) {
   } catch (const std::exception& e) {
     ADD_FAILURE() << what << ": not an InputError: " << e.what();
   }
+}
+
+TEST_F(Columns, DuplicateColumnThatIsReadIsRefused) {
+  // `dump custom ... id x x y z` (two x columns that may hold different things): refused with
+  // the line of ITEM: ATOMS (line 9 of the frame) rather than silently taking the first;
+  // a duplicated column pdcg does not read (c_pe twice) is kept as extra columns.
+  const auto p = write("dup.dump", frame("id type x x y z", {"1 1 2 3 0 0", "2 1 4 5 1 1"}));
+  expect_error([&] { (void)DumpReader(p).frame(0); }, p, 9,
+               {"column 'x' appears more than once", "each column once"});
+  const auto q =
+      write("dupc.dump", frame("id type x y z c_pe c_pe", {"1 1 2 0 0 -1 -2", "2 1 4 1 1 -3 -4"}));
+  const Atoms a = DumpReader(q).frame(0);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a.x[3], 4.0);
 }
 
 TEST_F(Columns, SweepNeverCrashes) {
