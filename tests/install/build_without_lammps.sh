@@ -12,6 +12,9 @@ cmake -S "$src" -B "$build" "${gen[@]}" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAG
       -DPDCG_ENABLE_TESTING=OFF -DPDCG_ENABLE_BENCHMARKS=OFF > "$build.configure.log" 2>&1 \
   || { tail -30 "$build.configure.log"; exit 1; }
 cmake --build "$build" -j2 > "$build.build.log" 2>&1 || { grep -E 'error|Error' "$build.build.log" | head -30; exit 1; }
-if grep -q 'warning:' "$build.build.log"; then grep 'warning:' "$build.build.log" | head; echo "warnings in our code"; exit 1; fi
+# lto-wrapper's "using serial compilation of N LTRANS jobs" is GCC's note on pybind11's -flto
+# link of the Python module, not a diagnostic of the code
+if grep 'warning:' "$build.build.log" | grep -vq '^lto-wrapper: warning: using serial compilation'; then
+  grep 'warning:' "$build.build.log" | head; echo "warnings in our code"; exit 1; fi
 "$build/pdcg" version | grep -q 'LAMMPS .*not enabled'
 echo "build_without_lammps: passed"
