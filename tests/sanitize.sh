@@ -92,7 +92,17 @@ export OMPI_MCA_mca_base_component_disable_dlclose=${OMPI_MCA_mca_base_component
 export OMP_TOOL=${OMP_TOOL:-disabled}
 cd "$B"
 args=("$@")
-[ ${#args[@]} = 0 ] && args=(-LE "$exclude")
+if [ ${#args[@]} = 0 ]; then
+  args=(-LE "$exclude")
+  # Two 3D Newton–GMRES solves take 5–7 min each under ASan on 2 cores (measured 406 s and
+  # 320 s) and would push CI past its budget; the kernels they exercise (residual, tangent,
+  # matrix-free product, GMRES) run under the sanitizers in MatrixFree.Product*, Model.* and
+  # NewtonGmres.NonConvergenceIsANumericalError. PDCG_ASAN_SKIP_TESTS= runs them too.
+  skip=${PDCG_ASAN_SKIP_TESTS-'^NewtonGmres\.SameSolutionAsDirectIn3D$|^MatrixFree\.NewtonGmresSameSolutionAsDirect$'}
+  if [ -n "$skip" ]; then
+    if [ ${#skip_unbuilt[@]} -gt 0 ]; then skip_unbuilt=(-E "_NOT_BUILT\$|$skip"); else skip_unbuilt=(-E "$skip"); fi
+  fi
+fi
 args+=("${skip_unbuilt[@]}")
 log=$B/sanitize-ctest.log
 status=0
