@@ -48,13 +48,27 @@ class Parser {
     }
     return false;
   }
+  // Bounds: the parser recurses per nesting level and evaluation recurses per operation
+  // (nested closures), so a pathological input (thousands of '(' or '-', or of '+1') would
+  // overflow the stack; scene expressions are a few operations deep.
+  static constexpr int kMaxDepth = 64;
+  static constexpr int kMaxOperations = 1000;
+  void operation() {
+    if (++operations_ > kMaxOperations)
+      fail(
+          fmt::format("more than {} operations (an expression this long is not a scene "
+                      "expression)",
+                      kMaxOperations));
+  }
   Fn expr() {
     Fn a = term();
     for (;;) {
       if (eat('+')) {
+        operation();
         Fn b = term();
         a = [a, b](const double* t) { return a(t) + b(t); };
       } else if (eat('-')) {
+        operation();
         Fn b = term();
         a = [a, b](const double* t) { return a(t) - b(t); };
       } else {
@@ -66,9 +80,11 @@ class Parser {
     Fn a = unary();
     for (;;) {
       if (eat('*')) {
+        operation();
         Fn b = unary();
         a = [a, b](const double* t) { return a(t) * b(t); };
       } else if (eat('/')) {
+        operation();
         Fn b = unary();
         a = [a, b](const double* t) { return a(t) / b(t); };
       } else {
@@ -80,13 +96,21 @@ class Parser {
   Fn power() {
     Fn a = primary();
     if (eat('^')) {
+      operation();
       Fn b = unary();
       return [a, b](const double* t) { return std::pow(a(t), b(t)); };
     }
     return a;
   }
   Fn unary() {
+    struct Level {
+      int& d;
+      ~Level() { --d; }
+    } level{++depth_};
+    if (depth_ > kMaxDepth)
+      fail(fmt::format("nested more than {} levels deep (parentheses, signs, powers)", kMaxDepth));
     if (eat('-')) {
+      operation();
       Fn a = unary();
       return [a](const double* t) { return -a(t); };
     }
@@ -138,6 +162,8 @@ class Parser {
     return [f, a](const double* t) { return f(a(t)); };
   }
   const std::string& s_;
+  int depth_ = 0;
+  int operations_ = 0;
   std::string where_;
   std::vector<std::string> vars_;
   std::size_t p_ = 0;

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/scene/expression.hpp"
 #include "pdcg/scene/scene.hpp"
 
 using namespace pdcg;
@@ -35,4 +36,32 @@ TEST(FuzzRegression, SceneKeyThatIsNotAPlainName) {
     }
   }
   std::filesystem::remove_all(dir);
+}
+
+// fuzz_expression: 300 '(' overflowed the stack of the recursive-descent parser (ASan
+// stack-overflow in Parser::unary); a long chain "1+1+…" would overflow it when evaluated
+// (one nested closure per operation). Both are InputErrors now; ordinary nesting still works.
+TEST(FuzzRegression, ExpressionNestingAndLengthAreBounded) {
+  const auto refused = [](const std::string& text, const char* why) {
+    try {
+      (void)scene::parse_expression(text, "loading.value");
+      ADD_FAILURE() << text.substr(0, 40) << "…: accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(why), std::string::npos) << what;
+      EXPECT_NE(what.find("loading.value"), std::string::npos) << what;
+    }
+  };
+  refused(std::string(300, '(') + "1" + std::string(300, ')'), "nested more than 64 levels");
+  refused(std::string(5000, '-') + "1", "nested more than 64 levels");
+  std::string chain = "1";
+  for (int k = 0; k < 5000; ++k) chain += "+1";
+  refused(chain, "more than 1000 operations");
+  // 60 levels and 999 operations are fine, with the value of the closed form
+  EXPECT_EQ(scene::parse_expression(std::string(60, '(') + "t" + std::string(60, ')'),
+                                    "loading.value")(2.5),
+            2.5);
+  std::string sum = "t";
+  for (int k = 0; k < 999; ++k) sum += "+t";
+  EXPECT_EQ(scene::parse_expression(sum, "loading.value")(0.5), 500.0);
 }
