@@ -3,8 +3,11 @@
 // interpolate), so that the splines are bit-identical.
 #include "eam_tables.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -59,6 +62,21 @@ class TableReader {
   }
   const std::string& path() const { return path_; }
   long line() const { return lineno_; }
+  /// The header's counts are checked against the file's size before the tables are sized:
+  /// every value takes at least two bytes (a digit and a separator), so a corrupted Nrho or
+  /// Nr (10⁹) is an InputError, not a many-gigabyte allocation.
+  void require_values(double n, std::string_view what) const {
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path_, ec);
+    if (!ec && 2.0 * n > static_cast<double>(bytes))
+      throw InputError("EAM potential file is too short for its header")
+          .source(path_)
+          .line(lineno_)
+          .key(what)
+          .value(fmt::format("{:.0f} table values declared, the file has {} bytes", n, bytes))
+          .expected("at least as many values as Nrho, Nr and the element count declare")
+          .fix("the file is truncated or its header (Nrho, Nr, Nelements) is wrong");
+  }
 
  private:
   bool raw() {
@@ -138,6 +156,7 @@ Funcfl read_funcfl(const std::string& name, const std::string& path, UnitStyle u
   rd.to_int(v[0], "Z");
   f.mass = rd.to_double(v[1], "mass");
   f.g = read_grid(rd);
+  rd.require_values(double(f.g.nrho) + 2.0 * double(f.g.nr), "Nrho drho Nr dr cutoff");
   f.frho.assign(static_cast<std::size_t>(f.g.nrho + 1), 0.0);
   f.zr.assign(static_cast<std::size_t>(f.g.nr + 1), 0.0);
   f.rhor.assign(static_cast<std::size_t>(f.g.nr + 1), 0.0);
@@ -179,6 +198,10 @@ Setfl read_setfl(const std::string& path, bool fs, UnitStyle units) {
   s.elements.assign(v.begin() + 1, v.end());
   s.g = read_grid(rd);
   const auto nrho = static_cast<std::size_t>(s.g.nrho), nr = static_cast<std::size_t>(s.g.nr);
+  {
+    const double e = ne, per_element = double(nrho) + double(nr) * (fs ? e : 1.0);
+    rd.require_values(e * per_element + e * (e + 1.0) / 2.0 * double(nr), "Nrho drho Nr dr cutoff");
+  }
   s.mass.resize(static_cast<std::size_t>(ne));
   s.frho.assign(static_cast<std::size_t>(ne), std::vector<double>(nrho + 1, 0.0));
   s.rhor.assign(static_cast<std::size_t>(ne),

@@ -13,6 +13,7 @@
 #include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/core/error.hpp"
 #include "scratch_dir.hpp"
 
 using namespace pdcg;
@@ -109,4 +110,25 @@ TEST(FuzzRegression, EamBondFarPastTheRadialTableUsesTheLastRow) {
   EXPECT_NEAR(near[0] / far[0], 6.25, 1e-12);
   EXPECT_EQ(far[1], 0.0);
   EXPECT_EQ(far[2], 0.0);
+}
+
+// fuzz_eam: a setfl header declaring Nr = 10⁹ (one mutated digit) made read_setfl size its
+// tables first — malloc of 16 GB, libFuzzer out-of-memory. The counts are now checked against
+// the file's size (two bytes per value at least) before anything is allocated.
+TEST(FuzzRegression, EamHeaderCountsBeyondTheFileAreRefusedBeforeAllocation) {
+  test::ScratchDir dir("fuzz_eam_oom");
+  const std::string path = dir / "big.eam.alloy";
+  {
+    std::ofstream f(path);
+    f << "c1\nc2\nc3\n1 Cu\n5 0.1 1000000000 0.001 4.5\n29 63.55 3.615 fcc\n0 0 0 0 0\n";
+  }
+  try {
+    (void)atomistic::make_potential(atomistic::read_potential_commands_from_string(
+        "units metal\npair_style eam/alloy\npair_coeff * * " + path + " Cu\n", "fuzz.in", 1));
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("too short for its header"), std::string::npos) << what;
+    EXPECT_NE(what.find("table values declared"), std::string::npos) << what;
+  }
 }
