@@ -49,15 +49,28 @@ int run(const Options& o) {
         .value(fmt::format("{}", o.table_inner))
         .expected("a positive distance (0 = 0.6 × the closest reference pair)");
   if (o.temperature && !o.velocities.empty())
-    throw InputError("give one of --temperature and --velocities").key("--temperature/--velocities");
+    throw InputError("give one of --temperature and --velocities")
+        .key("--temperature/--velocities");
   if (o.temperature && (!(*o.temperature >= 0.0) || !std::isfinite(*o.temperature)))
-    throw InputError("bad temperature").key("--temperature").value(fmt::format("{}", *o.temperature)).expected("T >= 0");
+    throw InputError("bad temperature")
+        .key("--temperature")
+        .value(fmt::format("{}", *o.temperature))
+        .expected("T >= 0");
   if (o.dt && (!(*o.dt > 0.0) || !std::isfinite(*o.dt)))
-    throw InputError("bad time step").key("--dt").value(fmt::format("{}", *o.dt)).expected("a positive number");
+    throw InputError("bad time step")
+        .key("--dt")
+        .value(fmt::format("{}", *o.dt))
+        .expected("a positive number");
   if (o.steps < 0)
-    throw InputError("bad number of steps").key("--steps").value(std::to_string(o.steps)).expected("an integer >= 0");
+    throw InputError("bad number of steps")
+        .key("--steps")
+        .value(std::to_string(o.steps))
+        .expected("an integer >= 0");
   if (o.prefix.empty() || o.prefix.find('/') != std::string::npos)
-    throw InputError("bad file prefix").key("--prefix").value(o.prefix).expected("a file name without '/'");
+    throw InputError("bad file prefix")
+        .key("--prefix")
+        .value(o.prefix)
+        .expected("a file name without '/'");
   io::require_writable_directory(o.output, "-o/--output");  // before any computation
 
   const body::Body b = body::read_body(o.body);
@@ -71,8 +84,9 @@ int run(const Options& o) {
   const auto limit = dynamics::stable_time_step(b);
   eo.dt = o.dt ? *o.dt : 0.1 * limit.dt_stable;
   if (eo.dt > limit.dt_stable)
-    std::fprintf(stderr, "warning: --dt %g is above the stable limit %g of the body (docs/dynamics.md)\n", eo.dt,
-                 limit.dt_stable);
+    std::fprintf(stderr,
+                 "warning: --dt %g is above the stable limit %g of the body (docs/dynamics.md)\n",
+                 eo.dt, limit.dt_stable);
   eo.steps = o.steps;
   eo.table_tolerance = o.table_tolerance;
   eo.table_inner = o.table_inner;
@@ -82,9 +96,11 @@ int run(const Options& o) {
   std::printf("pair_style %s\n", ex.pair_style.c_str());
   std::printf("closest reference pair %.9g\n", ex.closest_pair);
   for (const auto& t : ex.tables)
-    std::printf("table %s: types %d %d, r %.9g .. %.9g, %lld points, error F %.3g E %.3g (tolerance %.3g)\n",
-                t.keyword.c_str(), t.type_i, t.type_j, t.r_lo, t.r_cut, static_cast<long long>(t.points),
-                t.force_error, t.energy_error, o.table_tolerance);
+    std::printf(
+        "table %s: types %d %d, r %.9g .. %.9g, %lld points, error F %.3g E %.3g (tolerance "
+        "%.3g)\n",
+        t.keyword.c_str(), t.type_i, t.type_j, t.r_lo, t.r_cut, static_cast<long long>(t.points),
+        t.force_error, t.energy_error, o.table_tolerance);
   std::printf("atom types %zu, time step %.17g%s\n", ex.lammps_type_mass.size() - 1, eo.dt,
               o.dt ? "" : " (0.1 x the stable limit)");
   for (const auto& f : ex.files) std::printf("wrote %s\n", f.string().c_str());
@@ -92,18 +108,25 @@ int run(const Options& o) {
 }
 
 pdcg::cli::Registration reg(155, [](CLI::App& app) -> pdcg::cli::Runner {
-  auto* sub = app.add_subcommand("export-lammps", "A pair or EAM body (rescaled or not) as LAMMPS input");
+  auto* sub =
+      app.add_subcommand("export-lammps", "A pair or EAM body (rescaled or not) as LAMMPS input");
   auto o = std::make_shared<Options>();
   sub->add_option("body", o->body, "Model file (pdcg-body)")->required();
   sub->add_option("-o,--output", o->output, "Output directory")->required();
-  sub->add_option("--prefix", o->prefix, "File names: PREFIX.data, .pair, .table or .eam.setfl, in.PREFIX (default model)");
-  sub->add_option("--table-style", o->table_style, "pair_style table interpolation: spline (default) or linear");
+  sub->add_option(
+      "--prefix", o->prefix,
+      "File names: PREFIX.data, .pair, .table or .eam.setfl, in.PREFIX (default model)");
+  sub->add_option("--table-style", o->table_style,
+                  "pair_style table interpolation: spline (default) or linear");
   sub->add_option("--table-tolerance", o->table_tolerance,
                   "Interpolation error bound of forces and energies, relative (default 1e-10)");
-  sub->add_option("--table-inner", o->table_inner, "Inner end of the tables (default 0.6 x the closest reference pair)");
-  sub->add_option("--temperature", o->temperature, "Initial Gaussian velocities at T, as pdcg md --temperature");
+  sub->add_option("--table-inner", o->table_inner,
+                  "Inner end of the tables (default 0.6 x the closest reference pair)");
+  sub->add_option("--temperature", o->temperature,
+                  "Initial Gaussian velocities at T, as pdcg md --temperature");
   sub->add_option("--seed", o->seed, "Random seed for --temperature (default 12345)");
-  sub->add_option("--velocities", o->velocities, "Initial velocities: dump with vx vy vz and the body's ids");
+  sub->add_option("--velocities", o->velocities,
+                  "Initial velocities: dump with vx vy vz and the body's ids");
   sub->add_option("--dt", o->dt, "Time step of the input script (default 0.1 x the stable limit)");
   sub->add_option("--steps", o->steps, "Steps of the input script (default 0; -var steps N)");
   sub->footer(

@@ -114,27 +114,8 @@ Knots knots(const PairProbe& p, const PairSetup& s, std::int64_t n) {
   return k;
 }
 
-/// LAMMPS's internal table from the file's knots (PairTable::compute_table): knots uniform in
-/// r² from r_lo² to r_cut², F stored as F/r, spline end slopes from FPRIME (force) and from F
-/// (energy: dE/d(r²) = −F/2r).
 TableInterpolant interpolant(const PairSetup& s, const Knots& k, TableStyle style) {
-  TableInterpolant t;
-  t.style = style;
-  const auto n = k.r.size();
-  t.rsq_lo = s.r_lo * s.r_lo;
-  t.delta = (s.r_cut * s.r_cut - t.rsq_lo) / static_cast<double>(n - 1);
-  t.e = k.e;
-  t.f.resize(n);
-  for (std::size_t i = 0; i < n; ++i) t.f[i] = k.f[i] / std::sqrt(t.rsq_lo + i * t.delta);
-  if (style == TableStyle::spline) {
-    const double r0 = s.r_lo, rc = s.r_cut;
-    const double ep0 = -k.f[0] / (2.0 * r0), epn = -k.f[n - 1] / (2.0 * rc);
-    t.e2 = spline_second(t.e, t.delta, ep0, epn);
-    const double fp0 = (k.fplo / r0 - k.f[0] / (r0 * r0)) / (2.0 * r0);
-    const double fpn = (k.fphi / rc - k.f[n - 1] / (rc * rc)) / (2.0 * rc);
-    t.f2 = spline_second(t.f, t.delta, fp0, fpn);
-  }
-  return t;
+  return table_interpolant(style, s.r_lo, s.r_cut, k.e, k.f, k.fplo, k.fphi);
 }
 
 struct Errors {
@@ -149,32 +130,29 @@ Errors table_errors(const PairProbe& p, const PairSetup& s, const TableInterpola
   Errors er;
   if (s.zero) return er;
   const auto n = t.e.size();
-  struct Sample {
-    double r, e, f, de, df;
-  };
-  std::vector<Sample> samples;
-  samples.reserve(3 * (n - 1));
   const double r_from = std::min(r_scale, 0.5 * (s.r_lo + s.r_cut));
-  for (std::size_t i = 0; i + 1 < n; ++i)
-    for (double frac : {0.25, 0.5, 0.75}) {
-      const double r = std::sqrt(t.rsq_lo + (static_cast<double>(i) + frac) * t.delta);
-      if (!(r < s.r_cut)) continue;
-      double e, f, te, tf;
-      p.eval(s.a, s.b, std::min(r, s.r_last), e, f);
-      t.eval(r, te, tf);
-      samples.push_back({r, e, f, std::abs(te - e), std::abs(tf - f)});
-      if (r >= r_from) {
-        er.force_scale = std::max(er.force_scale, std::abs(f));
-        er.energy_scale = std::max(er.energy_scale, std::abs(e));
+  // two passes over the test points (scales, then errors): no storage per point
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      for (double frac : {0.25, 0.5, 0.75}) {
+        const double r = std::sqrt(t.rsq_lo + (static_cast<double>(i) + frac) * t.delta);
+        if (!(r < s.r_cut) || (pass == 0 && r < r_from)) continue;
+        double e, f;
+        p.eval(s.a, s.b, std::min(r, s.r_last), e, f);
+        if (pass == 0) {
+          er.force_scale = std::max(er.force_scale, std::abs(f));
+          er.energy_scale = std::max(er.energy_scale, std::abs(e));
+          continue;
+        }
+        double te, tf;
+        t.eval(r, te, tf);
+        const double fs = std::max(std::abs(f), er.force_scale),
+                     es = std::max(std::abs(e), er.energy_scale);
+        if (!std::isfinite(te) || !std::isfinite(tf))
+          return {kInf, kInf, er.force_scale, er.energy_scale};
+        if (fs > 0.0) er.force = std::max(er.force, std::abs(tf - f) / fs);
+        if (es > 0.0) er.energy = std::max(er.energy, std::abs(te - e) / es);
       }
-    }
-  for (const auto& q : samples) {
-    const double fs = std::max(std::abs(q.f), er.force_scale),
-                 es = std::max(std::abs(q.e), er.energy_scale);
-    if (fs > 0.0) er.force = std::max(er.force, q.df / fs);
-    if (es > 0.0) er.energy = std::max(er.energy, q.de / es);
-    if (!std::isfinite(q.df) || !std::isfinite(q.de)) er.force = er.energy = kInf;
-  }
   return er;
 }
 
@@ -247,8 +225,8 @@ double closest_pair(const body::Body& b) {
 
 std::string header(const body::Body& b, const LammpsExportOptions& o, std::string_view source) {
   return fmt::format(
-      "pdcg export-lammps of {} ({} body, ε = {}, dimension {}, units {}, {} points){}",
-      source, body::to_string(b.kind), b.epsilon, b.dimension, to_string(b.units), b.size(),
+      "pdcg export-lammps of {} ({} body, ε = {}, dimension {}, units {}, {} points){}", source,
+      body::to_string(b.kind), b.epsilon, b.dimension, to_string(b.units), b.size(),
       o.command_line.empty() ? std::string() : ": " + o.command_line);
 }
 
@@ -268,9 +246,35 @@ void TableInterpolant::eval(double r, double& energy, double& force) const {
     return;
   }
   const double a = 1.0 - b, d6 = delta * delta / 6.0;
-  energy = a * e[ii] + b * e[ii + 1] + ((a * a * a - a) * e2[ii] + (b * b * b - b) * e2[ii + 1]) * d6;
+  energy =
+      a * e[ii] + b * e[ii + 1] + ((a * a * a - a) * e2[ii] + (b * b * b - b) * e2[ii + 1]) * d6;
   force = r * (a * f[ii] + b * f[ii + 1] +
                ((a * a * a - a) * f2[ii] + (b * b * b - b) * f2[ii + 1]) * d6);
+}
+
+TableInterpolant table_interpolant(TableStyle style, double r_lo, double r_cut,
+                                   std::span<const double> e, std::span<const double> f,
+                                   double fplo, double fphi) {
+  TableInterpolant t;
+  t.style = style;
+  const auto n = e.size();
+  if (n < 2 || f.size() != n)
+    throw InputError("a pair table needs at least 2 points with an energy and a force each");
+  t.rsq_lo = r_lo * r_lo;
+  t.delta = (r_cut * r_cut - t.rsq_lo) / static_cast<double>(n - 1);
+  t.e.assign(e.begin(), e.end());
+  t.f.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    t.f[i] = f[i] / std::sqrt(t.rsq_lo + static_cast<double>(i) * t.delta);
+  if (style == TableStyle::spline) {
+    const double r0 = r_lo, rc = r_cut;
+    // dE/d(r²) = −F/2r; d(F/r)/d(r²) = (F'/r − F/r²)/2r (PairTable::compute_table's end slopes)
+    t.e2 = spline_second(t.e, t.delta, -f[0] / (2.0 * r0), -f[n - 1] / (2.0 * rc));
+    const double fp0 = (fplo / r0 - f[0] / (r0 * r0)) / (2.0 * r0);
+    const double fpn = (fphi / rc - f[n - 1] / (rc * rc)) / (2.0 * rc);
+    t.f2 = spline_second(t.f, t.delta, fp0, fpn);
+  }
+  return t;
 }
 
 void check_exportable(const body::Body& b, std::string_view source) {
@@ -306,7 +310,8 @@ void check_exportable(const body::Body& b, std::string_view source) {
              "export a model without kspace_style");
   if (!b.families.bond_type.empty() || !b.families.pair_factor.empty())
     refuse("molecular bonds and special_bonds factors are not exported (not implemented)",
-           "bond_style", b.potential_spec.bond_style.empty() ? "special_bonds" : b.potential_spec.bond_style,
+           "bond_style",
+           b.potential_spec.bond_style.empty() ? "special_bonds" : b.potential_spec.bond_style,
            "a body without molecular bonds: the rescaled bond energies would need the Bonds "
            "topology and a bond_style table, which export-lammps does not write yet",
            "export a body without bonds");
@@ -342,9 +347,10 @@ std::vector<PairTable> write_tables(const body::Body& b, const LammpsExportOptio
                               b.potential->cutoff(), d_min))
         .fix("give --table-inner below the closest pair distance");
   if (r_lo > d_min)
-    log::warn("{}: the tables start at r = {} beyond the closest reference pair {}: LAMMPS stops "
-              "with \"Pair distance < table inner cutoff\"",
-              source, r_lo, d_min);
+    log::warn(
+        "{}: the tables start at r = {} beyond the closest reference pair {}: LAMMPS stops "
+        "with \"Pair distance < table inner cutoff\"",
+        source, r_lo, d_min);
   std::vector<PairSetup> setups;
   for (int a = 1; a <= nt; ++a)
     for (int c = a; c <= nt; ++c) {
@@ -373,22 +379,22 @@ std::vector<PairTable> write_tables(const body::Body& b, const LammpsExportOptio
       errs[i] = table_errors(probe, st, interpolant(st, k, o.table_style), d_min);
       worst = std::max({worst, errs[i].force, errs[i].energy});
     }
-    log::info("{}: pair tables of {} points: interpolation error {:.3g} (tolerance {:.3g})",
-              source, n, worst, o.table_tolerance);
+    log::info("{}: pair tables of {} points: interpolation error {:.3g} (tolerance {:.3g})", source,
+              n, worst, o.table_tolerance);
     if (worst <= o.table_tolerance) break;
     if (n >= o.max_table_points || attempt > 12)
       throw InputError("the pair tables cannot reach the interpolation tolerance")
           .source(source)
           .key("--table-tolerance")
           .value(fmt::format("{:.3g} (error {:.3g} with {} points)", o.table_tolerance, worst, n))
-          .expected(fmt::format("a tolerance reachable with at most {} points",
-                                o.max_table_points))
-          .fix("raise --table-tolerance, use --table-style spline (4th order), or start the "
-               "tables further out (--table-inner)");
+          .expected(fmt::format("a tolerance reachable with at most {} points", o.max_table_points))
+          .fix(
+              "raise --table-tolerance, use --table-style spline (4th order), or start the "
+              "tables further out (--table-inner)");
     // error ∝ N^−order: the N that meets the tolerance with 20 % margin, at least 1.5 N
     const double grow = std::pow(1.2 * worst / o.table_tolerance, 1.0 / order);
-    n = std::min(o.max_table_points,
-                 static_cast<std::int64_t>(std::ceil(static_cast<double>(n) * std::max(grow, 1.5))));
+    n = std::min(o.max_table_points, static_cast<std::int64_t>(
+                                         std::ceil(static_cast<double>(n) * std::max(grow, 1.5))));
   }
   n_out = n;
 
@@ -419,9 +425,10 @@ std::vector<PairTable> write_tables(const body::Body& b, const LammpsExportOptio
     t.force_scale = errs[i].force_scale;
     t.energy_scale = errs[i].energy_scale;
     const auto k = knots(probe, st, n);
-    s << fmt::format("\n# types {} {}: err_F {:.3g} (F_scale {:.6g}), err_E {:.3g} (E_scale {:.6g}){}\n",
-                     st.a, st.b, t.force_error, t.force_scale, t.energy_error, t.energy_scale,
-                     st.zero ? "; no interaction" : "");
+    s << fmt::format(
+        "\n# types {} {}: err_F {:.3g} (F_scale {:.6g}), err_E {:.3g} (E_scale {:.6g}){}\n", st.a,
+        st.b, t.force_error, t.force_scale, t.energy_error, t.energy_scale,
+        st.zero ? "; no interaction" : "");
     s << t.keyword << "\n";
     s << fmt::format("N {} RSQ {:.17g} {:.17g} FPRIME {:.17g} {:.17g}\n\n", n, st.r_lo, st.r_cut,
                      k.fplo, k.fphi);
@@ -506,11 +513,15 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
         .expected("a positive relative error, e.g. 1e-10");
   for (double m : b.mass)
     if (!(m > 0.0) || !std::isfinite(m))
-      throw InputError("a point has no positive mass").source(source).key("mass").value(fmt::format("{}", m));
+      throw InputError("a point has no positive mass")
+          .source(source)
+          .key("mass")
+          .value(fmt::format("{}", m));
   if (b.homogenisation)
-    log::warn("{}: homogenised body: its atomic layer is exported (the points `pdcg md` moves); "
-              "the continuum points of the homogenisation are not",
-              source);
+    log::warn(
+        "{}: homogenised body: its atomic layer is exported (the points `pdcg md` moves); "
+        "the continuum points of the homogenisation are not",
+        source);
   LammpsExport ex;
   ex.closest_pair = closest_pair(b);
   if (!std::isfinite(ex.closest_pair))
@@ -541,7 +552,8 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
     const auto table_file = dir / (prefix + ".table");
     ex.tables = write_tables(b, o, table_file, ex.closest_pair, npoints, source);
     ex.files.push_back(table_file);
-    ex.pair_style = fmt::format("table {} {}", o.table_style == TableStyle::spline ? "spline" : "linear", npoints);
+    ex.pair_style = fmt::format("table {} {}",
+                                o.table_style == TableStyle::spline ? "spline" : "linear", npoints);
     pair_lines = "pair_style " + ex.pair_style + "\n";
     for (int i = 1; i <= ntypes; ++i)
       for (int j = i; j <= ntypes; ++j) {
@@ -576,9 +588,10 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
           "# tabulation error (as LAMMPS interpolates): forces {:.3g}, energies {:.3g} relative to "
           "max(|value(r)|, its largest magnitude at r >= {:.6g}); tolerance {:.3g}\n",
           ef, ee, ex.closest_pair, o.table_tolerance);
-      s << fmt::format("# the tables start at r = {:.6g}: closer pairs stop LAMMPS (\"Pair distance < "
-                       "table inner cutoff\")\n",
-                       ex.tables.empty() ? 0.0 : ex.tables.front().r_lo);
+      s << fmt::format(
+          "# the tables start at r = {:.6g}: closer pairs stop LAMMPS (\"Pair distance < "
+          "table inner cutoff\")\n",
+          ex.tables.empty() ? 0.0 : ex.tables.front().r_lo);
     }
     s << pair_lines;
     out.commit();
@@ -624,8 +637,8 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
     s << "\nVelocities\n\n";
     for (std::size_t k = 0; k < n; ++k) {
       const double* vk = velocities.empty() ? nullptr : velocities.data() + 3 * k;
-      s << fmt::format("{} {:.17g} {:.17g} {:.17g}\n", b.id[k], vk ? vk[0] : 0.0,
-                       vk ? vk[1] : 0.0, vk ? vk[2] : 0.0);
+      s << fmt::format("{} {:.17g} {:.17g} {:.17g}\n", b.id[k], vk ? vk[0] : 0.0, vk ? vk[1] : 0.0,
+                       vk ? vk[2] : 0.0);
     }
     out.commit();
     ex.files.push_back(path);
@@ -636,13 +649,12 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
     const auto path = dir / ("in." + prefix);
     io::AtomicTextFile out(path);
     auto& s = out.stream();
-    auto bnd = [&](int c) {
-      return periodic[static_cast<std::size_t>(c)] ? "p" : "m";
-    };
+    auto bnd = [&](int c) { return periodic[static_cast<std::size_t>(c)] ? "p" : "m"; };
     s << "# " << header(b, o, source) << "\n";
-    s << fmt::format("# Run in this directory: lmp -in in.{} [-var steps N] [-var dt DT] "
-                     "[-var dump_every K]\n",
-                     prefix);
+    s << fmt::format(
+        "# Run in this directory: lmp -in in.{} [-var steps N] [-var dt DT] "
+        "[-var dump_every K]\n",
+        prefix);
     s << "# The body's points are the atoms; velocity Verlet (fix nve) is the integrator of "
          "`pdcg md`.\n# LAMMPS rebuilds neighbour lists; a PD body keeps its reference families "
          "(docs/dynamics.md).\n";
@@ -650,15 +662,17 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
                      to_string(b.units), b.dimension == 2 ? 2 : 3, bnd(0), bnd(1), bnd(2));
     s << fmt::format("read_data {}.data\ninclude {}.pair\n", prefix, prefix);
     s << "neigh_modify every 1 delay 0 check yes\n";
-    s << fmt::format("variable dt index {:.17g}\nvariable steps index {}\nvariable dump_every "
-                     "index 0\n",
-                     o.dt, o.steps);
+    s << fmt::format(
+        "variable dt index {:.17g}\nvariable steps index {}\nvariable dump_every "
+        "index 0\n",
+        o.dt, o.steps);
     s << "timestep ${dt}\nfix integrate all nve\n";
     if (b.dimension == 2) s << "fix plane all enforce2d\n";
     s << "thermo_style custom step time ke pe etotal\nthermo_modify format float %.15g\n"
          "thermo 100\n";
     s << "if \"${dump_every} > 0\" then &\n"
-         "  \"dump trajectory all custom ${dump_every} trajectory.dump id type xu yu zu vx vy vz\" &\n"
+         "  \"dump trajectory all custom ${dump_every} trajectory.dump id type xu yu zu vx vy vz\" "
+         "&\n"
          "  \"dump_modify trajectory format float %.17g sort id\"\n";
     s << "run ${steps}\n";
     out.commit();

@@ -4,7 +4,8 @@
 # trajectory of `pdcg md` on the same body:
 #   chain_small  LJ chain (lj/cut 2.5, families with a skin), ε = 2, T = 0.05, 1000 steps
 #   fcc_bar      FCC LJ bar (free x, y; periodic z), ε = 2, T = 0.05, 1000 steps
-#   eam_cu       FCC Cu (eam Cu_u3, periodic), ε = 2, 300 K, 500 steps (setfl path)
+#   eam_cu       FCC Cu (eam Cu_u3, periodic), ε = 2, 300 K, 500 steps (setfl, eam/alloy)
+#   eam_fs       random CuZr on FCC (eam/fs CuZr_mm), ε = 2, 300 K, 300 steps (setfl, eam/fs)
 # all to 1e-8 (max-norm of the position difference over the largest displacement, and of the
 # velocity difference over the largest velocity). Where they differ: a chain whose families hold
 # the nearest neighbours only (family cutoff = lj/cut 2.0, second neighbours at 2.245) driven by
@@ -13,7 +14,7 @@
 # wave with families that hold the second neighbours agrees to 1e-8, and a small wave on the
 # nearest-neighbour families agrees too. Then refusals (exit 2).
 set -euo pipefail
-PDCG=$1
+PDCG=$(realpath "$1")
 command -v lmp >/dev/null || { echo "lmp not found: skipped"; exit 0; }
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
@@ -92,7 +93,7 @@ grep -q "pair_style table spline" "lmp_chain_small/model.pair"
 python3 compare.py chain_small md_chain_small.dump lmp_chain_small/trajectory.dump 1e-8
 # the tabulation error as LAMMPS interpolates (pair_write) against the closed form of the rescaled
 # LJ, φ_ε(r) = ε^d 4[(σ/(r/ε))^12 − (σ/(r/ε))^6] with ε = 2, d = 1 (independent of pdcg)
-read -r rlo rcut < <(awk '/^table PAIR_1_1/ {print $6, $8}' export_chain_small.txt)
+read -r rlo rcut < <(awk '/^table PAIR_1_1/ {gsub(",", ""); print $7, $9}' export_chain_small.txt)
 (cd lmp_chain_small && cat > in.pw <<LMP
 units lj
 atom_style atomic
@@ -118,8 +119,8 @@ ef = max(abs(f - F(r)) / max(abs(F(r)), Fs) for r, e, f in rows)
 ee = max(abs(e - E(r)) / max(abs(E(r)), Es) for r, e, f in rows)
 print(f"chain_small: LAMMPS pair_write vs closed form over [{rlo:.4f}, 5): forces {ef:.3e}, energies {ee:.3e}")
 # the stated bound (1e-10, measured at 3 points per interval) holds at 7919 other distances;
-# 2e-10: the closed form's own round-off near r_lo (E ~ 1e3) is ~1e-13, far below
-assert ef < 2e-10 and ee < 2e-10, (ef, ee)
+# 1.2e-10: the bound is measured at 3 points per interval; 20 % for a peak between them
+assert ef < 1.2e-10 and ee < 1.2e-10, (ef, ee)
 PY
 
 # ---- FCC LJ bar, free x y, periodic z
@@ -158,6 +159,27 @@ printf 'units metal\npair_style eam\npair_coeff 1 1 /usr/share/lammps/potentials
 run eam_cu cu2.h5 500 0.002 --temperature 300 --seed 5
 grep -q "pair_style eam/alloy" lmp_eam_cu/model.pair
 python3 compare.py eam_cu md_eam_cu.dump lmp_eam_cu/trajectory.dump 1e-8
+
+# ---- EAM with type-pair densities (eam/fs CuZr, random 30 % Zr on an FCC lattice), ε = 2
+cat > in.cuzr <<'LMP'
+units metal
+atom_style atomic
+lattice fcc 3.7
+region box block 0 3 0 3 0 3
+create_box 2 box
+create_atoms 1 box
+set type 1 type/fraction 2 0.3 4711
+mass 1 63.546
+mass 2 91.224
+write_data cuzr.data
+LMP
+lmp -in in.cuzr -log none -screen none
+printf 'units metal\npair_style eam/fs\npair_coeff * * /usr/share/lammps/potentials/CuZr_mm.eam.fs Cu Zr\n' > cuzr.in
+"$PDCG" -q atoms2pd --input cuzr.data --potential cuzr.in --family-cutoff 8.2 -o cuzr.h5
+"$PDCG" -q rescale cuzr.h5 --factor 2 -o cuzr2.h5
+run eam_fs cuzr2.h5 300 0.001 --temperature 300 --seed 3
+grep -q "pair_style eam/fs" lmp_eam_fs/model.pair
+python3 compare.py eam_fs md_eam_fs.dump lmp_eam_fs/trajectory.dump 1e-8
 
 # ---- where a fixed-family body and LAMMPS differ: neighbours entering the cutoff
 printf 'units lj\npair_style lj/cut 2.0\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n' > lj20.in
@@ -213,6 +235,21 @@ expect2 statistical 'statistical body cannot be exported.*expectation' stat.h5 -
 expect2 table-style 'unknown table style.*linear' chain2.h5 -o x --table-style cubic
 expect2 tolerance 'cannot reach the interpolation tolerance' chain2.h5 -o x --table-style linear --table-tolerance 1e-15
 expect2 inner 'bad inner end' chain2.h5 -o x --table-inner 9
+cat > in.si <<'LMP'
+units metal
+atom_style atomic
+lattice diamond 5.431
+region box block 0 2 0 2 0 2
+create_box 1 box
+create_atoms 1 box
+mass 1 28.0855
+write_data si.data
+LMP
+lmp -in in.si -log none -screen none
+printf 'units metal\npair_style sw\npair_coeff * * /usr/share/lammps/potentials/Si.sw Si\nmass 1 28.0855\n' > si.in
+"$PDCG" -q atoms2pd --input si.data --potential si.in -o si.h5
+"$PDCG" -q rescale si.h5 --factor 2 -o si2.h5
+expect2 three-body 'cannot be represented in LAMMPS after rescaling.*sw.*not central pair forces' si2.h5 -o x
 touch afile
 expect2 output 'afile' chain2.h5 -o afile/sub
 echo "export_lammps.sh: ok"

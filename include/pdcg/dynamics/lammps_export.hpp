@@ -103,4 +103,10 @@ struct TableInterpolant {
   void eval(double r, double& energy, double& force) const;
 };
 
+/// LAMMPS's internal table (PairTable::compute_table) from a table file's n knots uniform in r²
+/// from r_lo to r_cut: energies e, forces f (F, not F/r) and the FPRIME slopes dF/dr at both ends.
+TableInterpolant table_interpolant(TableStyle style, double r_lo, double r_cut,
+                                   std::span<const double> e, std::span<const double> f,
+                                   double fplo, double fphi);
+
 }  // namespace pdcg::dynamics
