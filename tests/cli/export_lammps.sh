@@ -4,6 +4,7 @@
 # trajectory of `pdcg md` on the same body:
 #   chain_small  LJ chain (lj/cut 2.5, families with a skin), ε = 2, T = 0.05, 1000 steps
 #   fcc_bar      FCC LJ bar (free x, y; periodic z), ε = 2, T = 0.05, 1000 steps
+#   film_2d      triangular LJ film (dimension 2), ε = 2, T = 0.05, 1000 steps
 #   eam_cu       FCC Cu (eam Cu_u3, periodic), ε = 2, 300 K, 500 steps (setfl, eam/alloy)
 #   eam_fs       random CuZr on FCC (eam/fs CuZr_mm), ε = 2, 300 K, 300 steps (setfl, eam/fs)
 # all to 1e-8 (max-norm of the position difference over the largest displacement, and of the
@@ -140,6 +141,26 @@ lmp -in in.bar -log none -screen none
 "$PDCG" -q rescale bar.h5 --factor 2 -o bar2.h5
 run fcc_bar bar2.h5 1000 0.005 --temperature 0.05 --seed 11
 python3 compare.py fcc_bar md_fcc_bar.dump lmp_fcc_bar/trajectory.dump 1e-8
+
+# ---- 2D: triangular LJ film (dimension 2, periodic x y), ε = 2
+cat > in.film <<'LMP'
+units lj
+dimension 2
+atom_style atomic
+lattice hex 0.9
+region box block 0 8 0 5 -0.5 0.5
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+write_data film.data
+LMP
+lmp -in in.film -log none -screen none
+"$PDCG" -q atoms2pd --input film.data --potential lj25.in --dimension 2 --boundary "p p p" \
+  --family-cutoff 2.9 -o film.h5
+"$PDCG" -q rescale film.h5 --factor 2 -o film2.h5
+run film_2d film2.h5 1000 0.005 --temperature 0.05 --seed 2
+grep -q "dimension 2" lmp_film_2d/in.model
+python3 compare.py film_2d md_film_2d.dump lmp_film_2d/trajectory.dump 1e-8
 
 # ---- EAM Cu (setfl path), periodic
 cat > in.cu <<'LMP'
