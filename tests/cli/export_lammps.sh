@@ -5,6 +5,7 @@
 #   chain_small  LJ chain (lj/cut 2.5, families with a skin), ε = 2, T = 0.05, 1000 steps
 #   fcc_bar      FCC LJ bar (free x, y; periodic z), ε = 2, T = 0.05, 1000 steps
 #   film_2d      triangular LJ film (dimension 2), ε = 2, T = 0.05, 1000 steps
+#   triclinic    FCC LJ in a tilted periodic box (256 points), ε = 2, T = 0.05, 1000 steps
 #   eam_cu       FCC Cu (eam Cu_u3, periodic), ε = 2, 300 K, 500 steps (setfl, eam/alloy)
 #   eam_fs       random CuZr on FCC (eam/fs CuZr_mm), ε = 2, 300 K, 300 steps (setfl, eam/fs)
 # all to 1e-8 (max-norm of the position difference over the largest displacement, and of the
@@ -32,15 +33,21 @@ def frames(path):
             step = int(lines[i + 1])
         if lines[i].startswith("ITEM: NUMBER OF ATOMS"):
             n = int(lines[i + 1])
-            box = [list(map(float, lines[i + 3 + k].split()[:2])) for k in range(3)]
+            b = [list(map(float, lines[i + 3 + k].split())) for k in range(3)]
+            xy, xz, yz = (b[0][2], b[1][2], b[2][2]) if len(b[0]) == 3 else (0.0, 0.0, 0.0)
+            # LAMMPS's bounding box of a triclinic box back to lo/hi (docs.lammps.org/Howto_triclinic)
+            lx = b[0][1] - max(0, xy, xz, xy + xz) - (b[0][0] - min(0, xy, xz, xy + xz))
+            ly = b[1][1] - max(0, yz) - (b[1][0] - min(0, yz))
+            lz = b[2][1] - b[2][0]
             cols = lines[i + 6].split()[2:]
             rows = {}
             for l in lines[i + 7:i + 7 + n]:
                 r = dict(zip(cols, map(float, l.split())))
-                L = [b[1] - b[0] for b in box]
                 if "xu" not in r:
-                    for k, c in enumerate("xyz"):
-                        r[c + "u"] = r[c] + r["i" + c] * L[k]
+                    ix, iy, iz = r["ix"], r["iy"], r["iz"]
+                    r["xu"] = r["x"] + ix * lx + iy * xy + iz * xz
+                    r["yu"] = r["y"] + iy * ly + iz * yz
+                    r["zu"] = r["z"] + iz * lz
                 rows[int(r["id"])] = r
             out.append((step, rows))
             i += 7 + n
@@ -161,6 +168,25 @@ lmp -in in.film -log none -screen none
 run film_2d film2.h5 1000 0.005 --temperature 0.05 --seed 2
 grep -q "dimension 2" lmp_film_2d/in.model
 python3 compare.py film_2d md_film_2d.dump lmp_film_2d/trajectory.dump 1e-8
+
+# ---- triclinic periodic box (FCC LJ, xy tilt of one lattice constant, perturbed), ε = 2
+cat > in.tri <<'LMP'
+units lj
+atom_style atomic
+lattice fcc 1.0
+region box prism 0 4 0 4 0 4 1 0 0
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+displace_atoms all random 0.02 0.02 0.02 4711
+write_data tri.data
+LMP
+lmp -in in.tri -log none -screen none
+"$PDCG" -q atoms2pd --input tri.data --potential lj25.in --family-cutoff 2.9 -o tri.h5
+"$PDCG" -q rescale tri.h5 --factor 2 -o tri2.h5
+run triclinic tri2.h5 1000 0.005 --temperature 0.05 --seed 2
+grep -q "xy xz yz" lmp_triclinic/model.data
+python3 compare.py triclinic md_triclinic.dump lmp_triclinic/trajectory.dump 1e-8
 
 # ---- EAM Cu (setfl path), periodic
 cat > in.cu <<'LMP'
