@@ -317,6 +317,15 @@ void check_exportable(const body::Body& b, std::string_view source) {
            "export a body without bonds");
   const auto& base = b.base_potential ? *b.base_potential : *b.potential;
   if (base.pairwise() || base.eam_view()) return;
+  if (base.style().find("(embedded LAMMPS)") != std::string::npos)
+    refuse(
+        "pair styles evaluated through embedded LAMMPS are not exported (not implemented)",
+        "pair_style", base.style(),
+        "a native pair style (lj/cut, morse, zero) or native EAM: the embedded fallback does not "
+        "declare its energy a sum of pair terms to the exporter, so it cannot be tabulated "
+        "safely (a many-body style tabulated as pairs would be silently wrong)",
+        "for a rescaled pair style, run the rescaled model with `pdcg md`; for ε = 1, run "
+        "LAMMPS on the original pair_style");
   refuse("the potential cannot be represented in LAMMPS after rescaling", "pair_style",
          base.style(),
          "a pair potential (ψ_k = ½Σφ(r): pair_style table) or native EAM (eam, eam/alloy, "

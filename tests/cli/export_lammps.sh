@@ -297,6 +297,9 @@ printf 'units metal\npair_style sw\npair_coeff * * /usr/share/lammps/potentials/
 "$PDCG" -q atoms2pd --input si.data --potential si.in -o si.h5
 "$PDCG" -q rescale si.h5 --factor 2 -o si2.h5
 expect2 three-body 'cannot be represented in LAMMPS after rescaling.*sw.*not central pair forces' si2.h5 -o x
+printf 'units lj\npair_style buck 2.5\npair_coeff 1 1 2000.0 0.1 1.0\nmass 1 1.0\n' > buck.in
+"$PDCG" -q atoms2pd --input chain.data --potential buck.in --dimension 1 --boundary "p f f" -o buck.h5
+expect2 embedded 'embedded LAMMPS are not exported' buck.h5 -o x
 touch afile
 expect2 output 'afile' chain2.h5 -o afile/sub
 echo "export_lammps.sh: ok"

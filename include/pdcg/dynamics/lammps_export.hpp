@@ -18,7 +18,8 @@
 /// (expected energies are not functions of the distance), many-body potentials other than
 /// EAM (angle and bond-order terms: no pair table, and the rescaled parameters of a
 /// three-body style are not a LAMMPS style), molecular bonds and special factors (not
-/// implemented), long-range k-space terms, unit style `none`.
+/// implemented), pair styles evaluated through embedded LAMMPS (not implemented), long-range
+/// k-space terms, unit style `none`.
 ///
 /// Fixed families vs neighbour lists: LAMMPS rebuilds its neighbour lists, a PD body keeps the
 /// families of its reference configuration. The two agree as long as every pair that comes
