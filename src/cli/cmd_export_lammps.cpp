@@ -20,7 +20,7 @@
 namespace {
 
 struct Options {
-  std::string body, output, prefix = "model", table_style = "spline", velocities;
+  std::string body, output, prefix = "model", table_style = "spline", velocities, pair = "table";
   double table_tolerance = 1e-10, table_inner = 0.0;
   std::optional<double> temperature, dt;
   std::int64_t seed = 12345, steps = 0;
@@ -29,6 +29,15 @@ struct Options {
 int run(const Options& o) {
   using namespace pdcg;
   dynamics::LammpsExportOptions eo;
+  if (o.pair == "table")
+    eo.pair_form = dynamics::PairForm::table;
+  else if (o.pair == "native")
+    eo.pair_form = dynamics::PairForm::native;
+  else
+    throw InputError("unknown pair form")
+        .key("--pair")
+        .value(o.pair)
+        .expected("table (pair_style table) or native (lj/cut, morse with rescaled coefficients)");
   if (o.table_style == "spline")
     eo.table_style = dynamics::TableStyle::spline;
   else if (o.table_style == "linear")
@@ -116,6 +125,10 @@ pdcg::cli::Registration reg(155, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option(
       "--prefix", o->prefix,
       "File names: PREFIX.data, .pair, .table or .eam.setfl, in.PREFIX (default model)");
+  sub->add_option(
+      "--pair", o->pair,
+      "Pair potentials as: table (default; any native pairwise style) or native (lj/cut, morse "
+      "with rescaled coefficients, exact)");
   sub->add_option("--table-style", o->table_style,
                   "pair_style table interpolation: spline (default) or linear");
   sub->add_option("--table-tolerance", o->table_tolerance,

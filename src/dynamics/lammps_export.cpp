@@ -10,9 +10,11 @@
 #include <limits>
 #include <map>
 #include <ostream>
+#include <sstream>
 #include <utility>
 
 #include "pdcg/atomistic/families.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/units.hpp"
@@ -503,6 +505,72 @@ std::string write_setfl(const body::Body& b, const LammpsExportOptions& o,
   return fs_form ? "eam/fs" : "eam/alloy";
 }
 
+/// The pair commands of lj/cut or morse with rescaled coefficients (φ_ε(r) = ε^d φ(r/ε)):
+/// lj/cut ε_LJ → ε^d ε_LJ, σ → εσ; morse D0 → ε^d D0, α → α/ε, r0 → ε r0; every cutoff → ε r_c.
+/// Needs the LAMMPS types to be the body's types (one mass per type, every type present).
+std::string native_pair_lines(const body::Body& b, const LammpsExport& ex,
+                              std::string_view source) {
+  // a body stores its potential as command lines: the pair_style first, then the parsed spec
+  std::string style, text;
+  for (const auto& l : b.potential_spec.lines) {
+    text += l + "\n";
+    std::istringstream words(l);
+    std::string cmd;
+    if (words >> cmd && cmd == "pair_style") words >> style;
+  }
+  auto refuse = [&](std::string why) {
+    throw InputError("the pair potential cannot be written as its own LAMMPS style")
+        .source(source)
+        .key("--pair native")
+        .value(style.empty() ? std::string("no pair_style") : style)
+        .expected(why)
+        .fix("use --pair table (the default)");
+  };
+  const bool lj = style == "lj/cut", morse = style == "morse";
+  if (!lj && !morse) refuse("pair_style lj/cut or morse (their rescaled coefficients are known)");
+  const auto spec = atomistic::read_potential_commands_from_string(
+      text, b.potential_spec.source.empty() ? source : std::string_view(b.potential_spec.source),
+      b.potential_spec.ntypes);
+  const double eps = b.epsilon, ed = std::pow(eps, b.dimension);
+  if (!spec.bond_style.empty()) refuse("no bond_style");
+  const int n = static_cast<int>(ex.body_type_of_lammps_type.size()) - 1;
+  bool identity = n == spec.ntypes;
+  for (int t = 1; t <= n && identity; ++t)
+    identity = ex.body_type_of_lammps_type[static_cast<std::size_t>(t)] == t;
+  if (!identity)
+    refuse(
+        "one LAMMPS type per body type (every type present, one point mass per type): the "
+        "pair_coeff lines name the body's types");
+  auto num = [&](const atomistic::CoeffLine& c, std::size_t k) {
+    try {
+      return std::stod(c.args.at(k));
+    } catch (const std::exception&) {
+      throw InputError("not a number").source(spec.source).line(c.line_number).value(c.line);
+    }
+  };
+  std::string out = "pair_style " + spec.pair_style;
+  for (const auto& a : spec.pair_style_args) out += fmt::format(" {:.17g}", eps * std::stod(a));
+  out += "\n";
+  for (const auto& c : spec.pair_coeff) {
+    out += fmt::format("pair_coeff {} {}", c.i, c.j);
+    if (lj) {
+      out += fmt::format(" {:.17g} {:.17g}", ed * num(c, 0), eps * num(c, 1));
+      if (c.args.size() > 2) out += fmt::format(" {:.17g}", eps * num(c, 2));
+    } else {
+      out +=
+          fmt::format(" {:.17g} {:.17g} {:.17g}", ed * num(c, 0), num(c, 1) / eps, eps * num(c, 2));
+      if (c.args.size() > 3) out += fmt::format(" {:.17g}", eps * num(c, 3));
+    }
+    out += "\n";
+  }
+  if (!spec.pair_modify.empty()) {
+    out += "pair_modify";
+    for (const auto& w : spec.pair_modify) out += " " + w;
+    out += "\n";
+  }
+  return out;
+}
+
 }  // namespace
 
 LammpsExport export_lammps(const body::Body& b, std::span<const double> velocities,
@@ -556,7 +624,10 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
   const auto& base = b.base_potential ? *b.base_potential : *b.potential;
   const bool eam = !base.pairwise();
   std::string pair_lines;
-  if (!eam) {
+  if (!eam && o.pair_form == PairForm::native) {
+    pair_lines = native_pair_lines(b, ex, source);
+    ex.pair_style = pair_lines.substr(11, pair_lines.find('\n') - 11);
+  } else if (!eam) {
     std::int64_t npoints = 0;
     const auto table_file = dir / (prefix + ".table");
     ex.tables = write_tables(b, o, table_file, ex.closest_pair, npoints, source);
@@ -587,7 +658,10 @@ LammpsExport export_lammps(const body::Body& b, std::span<const double> velociti
     io::AtomicTextFile out(path);
     auto& s = out.stream();
     s << "# " << header(b, o, source) << "\n";
-    if (!eam) {
+    if (!eam && o.pair_form == PairForm::native)
+      s << fmt::format("# pair_style {} with rescaled coefficients (eps = {}, d = {}): exact\n",
+                       ex.pair_style, b.epsilon, b.dimension);
+    if (!eam && o.pair_form == PairForm::table) {
       double ef = 0.0, ee = 0.0;
       for (const auto& t : ex.tables) {
         ef = std::max(ef, t.force_error);

@@ -19,7 +19,7 @@ set -euo pipefail
 PDCG=$(realpath "$1")
 command -v lmp >/dev/null || { echo "lmp not found: skipped"; exit 0; }
 dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
+trap '[ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
 cd "$dir"
 export OMP_NUM_THREADS=1
 
@@ -131,6 +131,14 @@ print(f"chain_small: LAMMPS pair_write vs closed form over [{rlo:.4f}, 5): force
 assert ef < 1.2e-10 and ee < 1.2e-10, (ef, ee)
 PY
 
+# the same chain with lj/cut written natively (ε_LJ·ε^d, σ·ε, r_c·ε): no tabulation error, so the
+# difference is the round-off of evaluating φ(r/ε) vs the rescaled coefficients (1e-10 bound)
+"$PDCG" export-lammps chain2.h5 -o lmp_chain_native --pair native --dt 0.005 --steps 1000 \
+  --temperature 0.05 --seed 7 > /dev/null
+grep -q "^pair_style lj/cut 5$" lmp_chain_native/model.pair
+(cd lmp_chain_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
+python3 compare.py chain_native md_chain_small.dump lmp_chain_native/trajectory.dump 1e-10
+
 # ---- FCC LJ bar, free x y, periodic z
 cat > in.bar <<'LMP'
 units lj
@@ -187,6 +195,32 @@ lmp -in in.tri -log none -screen none
 run triclinic tri2.h5 1000 0.005 --temperature 0.05 --seed 2
 grep -q "xy xz yz" lmp_triclinic/model.data
 python3 compare.py triclinic md_triclinic.dump lmp_triclinic/trajectory.dump 1e-8
+
+# ---- two types: random binary LJ (lj/cut, mixed arithmetic, shifted, a shorter 2-2 cutoff) on the
+# FCC lattice, periodic; tables of three type pairs with their own cutoffs, and the native form
+cat > in.bin <<'LMP'
+units lj
+atom_style atomic
+lattice fcc 1.0
+region box block 0 3 0 3 0 3
+create_box 2 box
+create_atoms 1 box
+set type 1 type/fraction 2 0.4 977
+mass 1 1.0
+mass 2 2.0
+write_data bin.data
+LMP
+lmp -in in.bin -log none -screen none
+printf 'units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 2 2 0.8 0.95 2.2\npair_modify mix arithmetic shift yes\nmass 1 1.0\nmass 2 2.0\n' > bin.in
+"$PDCG" -q atoms2pd --input bin.data --potential bin.in --family-cutoff 2.9 -o bin.h5
+"$PDCG" -q rescale bin.h5 --factor 2 -o bin2.h5
+run binary bin2.h5 1000 0.005 --temperature 0.05 --seed 13
+[ "$(grep -c '^pair_coeff' lmp_binary/model.pair)" = 3 ]
+python3 compare.py binary md_binary.dump lmp_binary/trajectory.dump 1e-8
+"$PDCG" export-lammps bin2.h5 -o lmp_binary_native --pair native --dt 0.005 --steps 1000 \
+  --temperature 0.05 --seed 13 > /dev/null
+(cd lmp_binary_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
+python3 compare.py binary_native md_binary.dump lmp_binary_native/trajectory.dump 1e-10
 
 # ---- EAM Cu (setfl path), periodic
 cat > in.cu <<'LMP'
@@ -300,6 +334,7 @@ expect2 three-body 'cannot be represented in LAMMPS after rescaling.*sw.*not cen
 printf 'units lj\npair_style buck 2.5\npair_coeff 1 1 2000.0 0.1 1.0\nmass 1 1.0\n' > buck.in
 "$PDCG" -q atoms2pd --input chain.data --potential buck.in --dimension 1 --boundary "p f f" -o buck.h5
 expect2 embedded 'embedded LAMMPS are not exported' buck.h5 -o x
+expect2 pair-form 'unknown pair form.*native' chain2.h5 -o x --pair cubic
 touch afile
 expect2 output 'afile' chain2.h5 -o afile/sub
 echo "export_lammps.sh: ok"

@@ -39,8 +39,13 @@
 namespace pdcg::dynamics {
 
 enum class TableStyle { spline, linear };
+/// How a pair potential is written: as a table of φ_ε (any pairwise native style), or as its own
+/// LAMMPS style with rescaled coefficients (lj/cut: ε_LJ·ε^d, σ·ε, cutoffs·ε; morse: D0·ε^d,
+/// α/ε, r0·ε, cutoffs·ε; exact, mixing rules and `pair_modify shift` commute with the scaling).
+enum class PairForm { table, native };
 
 struct LammpsExportOptions {
+  PairForm pair_form = PairForm::table;
   /// LAMMPS's interpolation: `spline` (cubic splines in r² of E and F/r) or `linear` (linear
   /// in r² of the file's values, LAMMPS uses them without re-splining).
   TableStyle table_style = TableStyle::spline;
@@ -73,7 +78,7 @@ struct PairTable {
 };
 
 struct LammpsExport {
-  std::string pair_style;  ///< "table spline N", "eam/alloy", "eam/fs"
+  std::string pair_style;  ///< "table spline N", "lj/cut 5", "morse 7", "eam/alloy", "eam/fs"
   std::vector<PairTable> tables;
   /// LAMMPS atom types: one per (body type, point mass); lammps_type_of_body_type[t] lists
   /// the LAMMPS types of body type t.
