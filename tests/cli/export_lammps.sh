@@ -139,6 +139,19 @@ grep -q "^pair_style lj/cut 5$" lmp_chain_native/model.pair
 (cd lmp_chain_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
 python3 compare.py chain_native md_chain_small.dump lmp_chain_native/trajectory.dump 1e-10
 
+# morse (D0·ε^d, α/ε, r0·ε, shifted): the chain as a table and natively
+printf 'units lj\npair_style morse 2.5\npair_coeff 1 1 1.0 4.0 1.1\npair_modify shift yes\nmass 1 1.0\n' > morse.in
+"$PDCG" -q atoms2pd --input chain.data --potential morse.in --dimension 1 --boundary "p f f" \
+  --family-cutoff 3.0 -o morse.h5
+"$PDCG" -q rescale morse.h5 --factor 2 -o morse2.h5
+run morse morse2.h5 1000 0.005 --temperature 0.05 --seed 7
+python3 compare.py morse md_morse.dump lmp_morse/trajectory.dump 1e-8
+"$PDCG" export-lammps morse2.h5 -o lmp_morse_native --pair native --dt 0.005 --steps 1000 \
+  --temperature 0.05 --seed 7 > /dev/null
+grep -q "^pair_coeff 1 1 2 2 2.2000000000000002$" lmp_morse_native/model.pair
+(cd lmp_morse_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
+python3 compare.py morse_native md_morse.dump lmp_morse_native/trajectory.dump 1e-10
+
 # ---- FCC LJ bar, free x y, periodic z
 cat > in.bar <<'LMP'
 units lj
