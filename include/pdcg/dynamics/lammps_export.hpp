@@ -9,7 +9,7 @@
 ///    φ_ε(r) = ε^d φ(r/ε) (from ψ_ε,k(Y') = ε^d ψ_k(ε⁻¹Y'), (4.6)) is tabulated for
 ///    `pair_style table` (spline or linear), with a number of points chosen so that the
 ///    interpolation error of forces and energies, as LAMMPS interpolates them, is below a
-///    stated tolerance;
+///    stated tolerance, or (lj/cut, morse) as the style itself with rescaled coefficients;
 ///  - native EAM (eam, eam/alloy, eam/fs), delta or rescaled: the rescaled body is again an
 ///    EAM model, F_ε(ρ̄) = ε^d F(ρ̄), ρ_ε(r) = ρ(r/ε), φ_ε(r) = ε^d φ(r/ε), written as a setfl
 ///    file on the grid dr' = ε dr (`pair_style eam/alloy`, or `eam/fs` when a density depends
