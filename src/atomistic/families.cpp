@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/parallel.hpp"
 
 namespace pdcg::atomistic {
 
@@ -359,8 +360,9 @@ double force_states(const Potential& potential, const Families& fam, std::span<c
   for (std::size_t b = 0; b < fam.bonds(); ++b)
     ntype[b] = type[static_cast<std::size_t>(fam.neighbor[b])];
   double total = 0.0;
+  ParallelExceptions errors;  // a potential may refuse a configuration (NumericalError)
 #pragma omp parallel for schedule(static) reduction(+ : total)
-  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) errors.capture([&] {
     const auto i = static_cast<std::size_t>(ii);
     const auto b0 = static_cast<std::size_t>(fam.offset[i]);
     FamilyState f;
@@ -372,7 +374,8 @@ double force_states(const Potential& potential, const Families& fam, std::span<c
     f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
     psi[i] = potential.force_state(f, t.data() + 3 * b0);
     total += psi[i];
-  }
+  });
+  errors.rethrow();
   return total;
 }
 

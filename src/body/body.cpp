@@ -10,6 +10,7 @@
 
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/parallel.hpp"
 #include "pdcg/core/log.hpp"
 #include "statistics_impl.hpp"
 
@@ -368,8 +369,9 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
     // first call.
     const auto& pot = *body_.potential;
     double total = 0.0;
+    ParallelExceptions errors;  // a potential may refuse a configuration (NumericalError)
 #pragma omp parallel for schedule(static) reduction(+ : total)
-    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body_.size()); ++ii) {
+    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body_.size()); ++ii) errors.capture([&] {
       const auto i = static_cast<std::size_t>(ii);
       const auto b0 = static_cast<std::size_t>(fam.offset[i]),
                  b1 = static_cast<std::size_t>(fam.offset[i + 1]);
@@ -390,7 +392,8 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
       f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
       psi_[i] = pot.force_state(f, t_.data() + 3 * b0);
       total += psi_[i];
-    }
+    });
+    errors.rethrow();
     e.energy = total;
   }
   atomistic::pd_forces(fam, t_, f_);

@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/parallel.hpp"
 #include "pdcg/core/log.hpp"
 
 namespace pdcg::body {
@@ -472,6 +473,7 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
   for (std::int64_t k = 0; k < N; ++k)
     nmax = std::max(nmax, fam.offset[static_cast<std::size_t>(k + 1)] -
                               fam.offset[static_cast<std::size_t>(k)]);
+  ParallelExceptions errors;  // a potential may refuse a strained configuration
 #pragma omp parallel
   {
     // per-thread work arrays, sized once for the largest family
@@ -485,8 +487,8 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
       M.resize(static_cast<std::size_t>(27 * nmax));
     }
 #pragma omp for schedule(dynamic, 16)
-    for (std::int64_t k = 0; k < N; ++k) {
-      if (representative_[static_cast<std::size_t>(k)] != k) continue;
+    for (std::int64_t k = 0; k < N; ++k) errors.capture([&] {
+      if (representative_[static_cast<std::size_t>(k)] != k) return;
       const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
       const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
       atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), xis.data());
@@ -512,7 +514,7 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
         for (int i = 0; i < 3; ++i)
           for (int J = 0; J < 3; ++J)
             pk[3 * i + J] += t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
-      if (!tangent) continue;
+      if (!tangent) return;
       pot.force_state_tangent(f, K.data(), work.data());
       // M_b,ikL = Σ_c K_bc,ik ξ_c,L  (n²·27), then A_iJkL += Σ_b ξ_b,J M_b,ikL  (n·81)
       std::fill(M.begin(), M.begin() + 27 * n, 0.0);
@@ -538,8 +540,9 @@ void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<do
               for (int L = 0; L < 3; ++L)
                 ak[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * mb[3 * (3 * i + kk) + L];
       }
-    }
+    });
   }
+  errors.rethrow();
   // copy the representatives' results to the other members of their class
   for (std::int64_t k = 0; k < N; ++k) {
     const auto r = static_cast<std::size_t>(representative_[static_cast<std::size_t>(k)]);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/parallel.hpp"
 #include "statistics_impl.hpp"
 
 namespace pdcg::body {
@@ -209,8 +210,9 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
   const auto& fam = body.families;
   const auto& pot = *body.potential;
   double total = 0.0;
+  ParallelExceptions errors;  // a potential may refuse a sampled configuration
 #pragma omp parallel for schedule(static) reduction(+ : total)
-  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body.size()); ++ii) {
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body.size()); ++ii) errors.capture([&] {
     const auto i = static_cast<std::size_t>(ii);
     const auto b0 = static_cast<std::size_t>(fam.offset[i]),
                b1 = static_cast<std::size_t>(fam.offset[i + 1]);
@@ -235,7 +237,8 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
     psi_out[i] += weight * psi;
     for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * tb[c - 3 * b0];
     total += weight * psi;
-  }
+  });
+  errors.rethrow();
   return total;
 }
 
@@ -321,8 +324,9 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
   const std::size_t count = sc.weights.size();
   const auto& pot = *body.potential;
   double total = 0.0;
+  ParallelExceptions errors;  // a potential may refuse a cubature configuration
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : total)
-  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) errors.capture([&] {
     const auto i = static_cast<std::size_t>(ii);
     const Eigen::Matrix3d Ci = cov_of(s, i);
     double psi = 0.0;
@@ -358,7 +362,8 @@ double statistical_force_states(const Body& body, const Statistics& s, std::span
     }
     psi_out[i] = psi;
     total += psi;
-  }
+  });
+  errors.rethrow();
   return total;
 }
 

@@ -5,6 +5,10 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <random>
+#include <string>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "pdcg/atomistic/families.hpp"
 #include "pdcg/core/error.hpp"
@@ -244,4 +248,54 @@ TEST(Families, UnwrappedPositionsSeveralBoxesApartMatchWrapped) {
   // bond vectors x_j − x_i + H n of positions ~20 box units: round-off ~1e-14 relative
   EXPECT_TRUE(pdcg::test::close(U, Uref, {1e-11, 1e-11}));
   EXPECT_LT(pdcg::test::max_norm_relative_error(f, fref), 1e-11);
+}
+
+namespace {
+/// A potential that refuses any atom of type 2 (as a real one refuses a collapsed pair): the
+/// refusal is thrown inside the OpenMP loop over atoms of force_states.
+class RefusesTypeTwo final : public Potential {
+ public:
+  std::string style() const override { return "test refusal"; }
+  double cutoff() const override { return 2.0; }
+  int ntypes() const override { return 2; }
+  double force_state(const FamilyState& f, double* t) const override {
+    if (f.type == 2) throw pdcg::NumericalError("atom of type 2 refused by the test potential");
+    for (std::int64_t b = 0; b < 3 * f.size; ++b) t[b] = 0.0;
+    return 1.0;
+  }
+};
+}  // namespace
+
+TEST(Families, AnExceptionInTheParallelLoopReachesTheCaller) {
+  // An exception may not leave an OpenMP region (the runtime would call std::terminate and
+  // end the process): force_states carries the first one out, unchanged, on any thread count.
+  Box b;
+  b.hi = {6, 6, 6};
+  b.periodic = {true, true, true};
+  Atoms a = random_atoms(200, b, 5);
+  a.type[150] = 2;
+  const Families fam = build_families(a, {2.0});
+  std::vector<double> Y(3 * fam.bonds()), t(3 * fam.bonds()), psi(a.size());
+  deformed_bonds(fam, a.x, fam.h, Y);
+  const RefusesTypeTwo pot;
+#ifdef _OPENMP
+  const int saved = omp_get_max_threads();
+#endif
+  for (int threads : {1, 2, 4}) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    try {
+      force_states(pot, fam, a.type, Y, psi, t);
+      ADD_FAILURE() << "no exception with " << threads << " threads";
+    } catch (const pdcg::NumericalError& e) {
+      EXPECT_NE(std::string(e.what()).find("type 2 refused"), std::string::npos) << e.what();
+    }
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(saved);
+#endif
+  // and the next call (all atoms of type 1) runs normally
+  a.type[150] = 1;
+  EXPECT_DOUBLE_EQ(force_states(pot, fam, a.type, Y, psi, t), 200.0);
 }
