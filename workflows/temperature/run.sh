@@ -10,7 +10,8 @@
 # part, and every EVERY steps a frame with the same quantities. analyse.py then builds
 # statistical bodies of those frames with pdcg (Gaussian fit, empirical, decorrelated frames,
 # --temperature, static lattices), evaluates `pdcg energy --stress`, and writes
-# table.csv / table.md (block-average error bars) and timing.csv.
+# table.csv / table.md (block-average error bars) and timing.csv; qha.py the quasi-harmonic
+# pressure from LAMMPS's Hessian (qha.txt).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/../lib/setup.sh"
@@ -45,3 +46,6 @@ for T in "${TEMPS[@]}"; do
   echo "$T,$(/usr/bin/python3 -c "print(f'{$t1 - $t0:.1f}')"),$(/usr/bin/python3 -c "print(f'{($c1 - $c0) / $tck:.1f}')"),$((4 * CELLS ** 3)),$((EQUIL + SAMPLE))" >>"$OUT/timing.csv"
 done
 /usr/bin/python3 "$HERE/analyse.py" "$OUT" "${TEMPS[@]}"
+# quasi-harmonic pressure at the T = 0 volume from LAMMPS's Hessian (docs/temperature.md §3)
+A0=$(grep -h "^LATTICE a0" "$OUT"/T_*/log.lammps | head -1 | awk '{print $4}')
+/usr/bin/python3 "$HERE/qha.py" "$A0" "$CELLS" "${TEMPS[@]}" | tee "$OUT/qha.txt"
