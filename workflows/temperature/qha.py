@@ -76,12 +76,12 @@ def main():
         P[s] = (press, vol)
     dS = (S[1] - S[-1]) / (2 * 3 * h)  # ∂Σ ln ω / ∂ln V
     p0, V = P[0]
-    print(f"atoms {n}, V {V:.6f}, p_static {p0:.3e}, dΣlnω/dlnV {dS:.4f}, "
+    print(f"atoms {n}, V {V:.6f}, p_static {p0:.3e}, dΣlnω/dlnV {dS:.7f}, "
           f"Grüneisen (mean) {-dS / (3 * n - 3):.4f}")
     print("T,p_qha_total,p_qha_virial")
     for T in temps:
         p = p0 - T / V * dS
-        print(f"{T},{p:.5f},{p - n / V * T:.5f}")
+        print(f"{T},{p:.7f},{p - n / V * T:.7f}")
 
 
 if __name__ == "__main__":
