@@ -49,3 +49,9 @@ done
 # quasi-harmonic pressure at the T = 0 volume from LAMMPS's Hessian (docs/temperature.md §3)
 A0=$(grep -h "^LATTICE a0" "$OUT"/T_*/log.lammps | head -1 | awk '{print $4}')
 /usr/bin/python3 "$HERE/qha.py" "$A0" "$CELLS" "${TEMPS[@]}" | tee "$OUT/qha.txt"
+# isothermal stiffness C11, C12, C44 (MD at strains ±0.01 vs pdcg's quasi-harmonic free
+# energy; 12 more MD runs, ~50 s CPU): ELASTIC=1
+if [[ "${ELASTIC:-0}" = 1 ]]; then
+  /usr/bin/python3 "$HERE/elastic.py" "$OUT" "${TEMPS[@]}"
+  (cd "$OUT" && /usr/bin/python3 "$HERE/cutoff_crossings.py")
+fi
