@@ -194,6 +194,28 @@ TEST(Temperature, GaussianCubatureIsTheExpectationOfIndependentGaussianAtoms) {
   EXPECT_LT(std::abs(p_cub - p_mc), 4 * p_err + 1e-4);
 }
 
+TEST(Temperature, SampledStressIsTheCubatureStress) {
+  // The sampling path of Evaluator::stress (joint draws, fluctuations in the reference bonds)
+  // against the cubature path on the same Gaussian body.
+  const FrameSet s = load();
+  body::Body g = build(s, "gaussian", 6);
+  body::Evaluator ec(g);
+  const Eigen::Matrix3d Pc = ec.stress(Eigen::Matrix3d::Identity());
+  body::Statistics st = *g.statistics;
+  st.method = body::Statistics::Method::sampling;
+  st.samples = 400;
+  body::Body gs = g;
+  gs.statistics = st;
+  body::Evaluator es(gs);
+  const Eigen::Matrix3d Ps = es.stress(Eigen::Matrix3d::Identity());
+  std::printf("p cubature %.5f, sampling (400) %.5f\n", -Pc.trace() / 3, -Ps.trace() / 3);
+  // one draw's pressure scatters by ≈ 0.37 (Monte Carlo of the test above: 1.2e-2 × √1000),
+  // so 400 draws ≈ 0.019: 5 of those
+  EXPECT_LT(std::abs(Pc.trace() - Ps.trace()) / 3, 0.1);
+  // at F = I every sampled term t_b ⊗ Y_b is symmetric (pair forces along the bond)
+  EXPECT_LT((Ps - Ps.transpose()).norm(), 1e-12 * Ps.norm());
+}
+
 TEST(Temperature, GaussianEqualsTheDecorrelatedFrames) {
   // Each atom's frame index permuted independently (10 shuffles of the 51 frames): samples of
   // independent atoms with the frames' own, non-Gaussian marginals. Their average (the
