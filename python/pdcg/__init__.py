@@ -86,10 +86,13 @@ def statistical_body(frames: Union[Atoms, Sequence[Atoms]], potential: Optional[
                      statistics: str = "gaussian", width: Optional[float] = None,
                      order: Optional[int] = None, samples: Optional[int] = None,
                      dimension: int = 3, family_cutoff: Optional[float] = None,
-                     boundary: Optional[str] = None) -> Body:
+                     boundary: Optional[str] = None,
+                     temperature: Optional[float] = None) -> Body:
     """Statistical body (docs/theory.md §2): ρ(x) = Σ_k M_k P_k(x), ψ_k replaced by its
     expectation over independent position densities P_j. `statistics="gaussian"` fits mean and
-    covariance per atom to several frames (or takes an isotropic `width` with one frame);
+    covariance per atom to several frames (or takes an isotropic `width`, or the local-harmonic
+    widths of a `temperature` — k_B T/ε in lj units, kelvin in metal and real — with one
+    relaxed frame; docs/temperature.md);
     `"empirical"` averages over the frames. Gauss–Hermite cubature of `order` points per
     dimension (pair potentials) or `samples` joint samples (any potential). As
     `pdcg atoms2pd --density statistical`; frames from read_frames(path, "A:B").
@@ -97,7 +100,8 @@ def statistical_body(frames: Union[Atoms, Sequence[Atoms]], potential: Optional[
     if isinstance(frames, Atoms):
         frames = [frames]
     return _pdcg._build_body(list(frames), potential or "", _commands_text(commands), dimension,
-                             family_cutoff, boundary or "", statistics, width, order, samples)
+                             family_cutoff, boundary or "", statistics, width, order, samples,
+                             temperature)
 
 
 def _evaluate(self: Body, positions=None, h=None):

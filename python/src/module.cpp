@@ -31,10 +31,10 @@
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/body.hpp"
+#include "pdcg/body/build.hpp"
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/lattice.hpp"
 #include "pdcg/body/model_file.hpp"
-#include "pdcg/body/statistics.hpp"
 #include "pdcg/coarsen/homogenise.hpp"
 #include "pdcg/coarsen/kernels.hpp"
 #include "pdcg/coarsen/rescale.hpp"
@@ -344,7 +344,8 @@ std::pair<std::array<bool, 3>, bool> periodicity(const AtomsHandle& h,
 /// `statistics`) a statistical body of all frames (docs/theory.md §1–2).
 body::Body build_body(std::vector<AtomsPtr> frames_in, const BodyArgs& args,
                       const std::string& statistics, std::optional<double> width,
-                      std::optional<int> order, std::optional<std::int64_t> samples) {
+                      std::optional<int> order, std::optional<std::int64_t> samples,
+                      std::optional<double> temperature = std::nullopt) {
   if (frames_in.empty()) throw InputError("no configuration given").key("atoms");
   const AtomsHandle& ref_h = *frames_in.front();
   std::vector<atomistic::Atoms> frames;
@@ -363,69 +364,19 @@ body::Body build_body(std::vector<AtomsPtr> frames_in, const BodyArgs& args,
         .fix("use the potential the trajectory was produced with");
   atomistic::take_type_charges(spec, ref);
   std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
-  body::DeltaBodyOptions opt;
-  opt.dimension = args.dimension;
-  opt.source = ref_h.source;
-  opt.periodicity_assumed = assumed;
-  if (args.family_cutoff) {
-    if (!(*args.family_cutoff >= pot->cutoff()))
-      throw InputError("family cutoff below the potential's cutoff")
-          .key("family_cutoff")
-          .value(fmt::format("{}", *args.family_cutoff))
-          .expected(fmt::format("at least the potential cutoff {}", pot->cutoff()));
-    opt.cutoff = *args.family_cutoff;
-  }
-  body::Body b = body::make_delta_body(ref, pot, spec, opt);
-  b.potential_files = body::embed_potential_files(b.potential_spec);
-  b.provenance.back() += fmt::format(" (potential {}, Python module)", spec.source);
-  if (statistics.empty()) return b;
-  if (statistics != "gaussian" && statistics != "empirical")
-    throw InputError("unknown statistics")
-        .key("statistics")
-        .value(statistics)
-        .expected("gaussian or empirical");
-  if (order && samples) throw InputError("give one of order= and samples=").key("order/samples");
-  body::Statistics s;
-  if (statistics == "empirical") {
-    s = body::empirical_from_frames(b, frames);
-  } else if (width) {
-    if (frames.size() > 1) throw InputError("give width= or several frames, not both").key("width");
-    s = body::isotropic_gaussian(b, *width);
-  } else {
-    if (frames.size() < 2)
-      throw InputError("gaussian densities need a width or several frames")
-          .key("statistics='gaussian'")
-          .fix("give frames (mean and covariance per atom) or width=W (isotropic)");
-    s = body::gaussian_from_frames(b, frames);
-  }
-  if (samples) {
-    s.method = body::Statistics::Method::sampling;
-    s.samples = *samples;
-  } else {
-    s.method =
-        pot->pairwise() ? body::Statistics::Method::cubature : body::Statistics::Method::sampling;
-    if (order && !pot->pairwise())
-      throw InputError("Gauss–Hermite cubature needs a pair potential")
-          .key("order")
-          .value(pot->style())
-          .fix("use samples=N for many-body potentials");
-    if (order) s.order = *order;
-  }
-  if (frames.size() > 1) {
-    // families of the mean configuration, as `pdcg atoms2pd --frames`
-    atomistic::Atoms mean = ref;
-    atomistic::sort_by_id(mean, ref_h.source);
-    mean.x = b.x;
-    auto files = std::move(b.potential_files);
-    auto prov = std::move(b.provenance);
-    b = body::make_delta_body(mean, pot, spec, opt);
-    b.potential_files = std::move(files);
-    b.provenance = std::move(prov);
-    b.provenance.push_back(
-        fmt::format("families rebuilt at the mean positions of {} frames", frames.size()));
-  }
-  body::make_statistical(b, std::move(s));
-  return b;
+  body::BodyRequest request;
+  request.delta.dimension = args.dimension;
+  request.delta.source = ref_h.source;
+  request.delta.periodicity_assumed = assumed;
+  request.family_cutoff = args.family_cutoff;
+  request.statistics = statistics;
+  request.width = width;
+  request.temperature = temperature;
+  request.order = order;
+  request.samples = samples;
+  request.provenance = fmt::format(" (potential {}, Python module)", spec.source);
+  request.spelling = body::OptionSpelling::python;
+  return body::build_body(frames, pot, spec, request);
 }
 
 // ---- progress -----------------------------------------------------------------------------
@@ -744,6 +695,41 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
             body::write_body(*h->body, path);
           },
           py::arg("path"), "Writes the model file (HDF5 pdcg-body, docs/formats.md), atomically.")
+      .def(
+          "stress",
+          [](const BodyPtr& h, const std::optional<std::vector<double>>& F_rows) {
+            Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+            if (F_rows) {
+              if (F_rows->size() != 9)
+                throw InputError("F must hold 9 numbers (row-major 3×3)")
+                    .key("F")
+                    .value(std::to_string(F_rows->size()) + " numbers");
+              for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c)
+                  F(r, c) = (*F_rows)[static_cast<std::size_t>(3 * r + c)];
+            }
+            if (!(F.determinant() > 0.0))
+              throw InputError("deformation gradient with det F ≤ 0")
+                  .key("F")
+                  .value(fmt::format("det F = {:.6g}", F.determinant()));
+            Eigen::Matrix3d P;
+            {
+              py::gil_scoped_release release;
+              std::lock_guard lock(h->mutex);
+              if (!h->evaluator) h->evaluator = std::make_unique<body::Evaluator>(*h->body);
+              P = h->evaluator->stress(F);
+            }
+            py::array_t<double> out({3, 3});
+            auto o = out.mutable_unchecked<2>();
+            for (int r = 0; r < 3; ++r)
+              for (int c = 0; c < 3; ++c) o(r, c) = P(r, c);
+            return out;
+          },
+          py::arg("F") = py::none(),
+          "First Piola–Kirchhoff stress P = ∂W/∂F (3×3, energy per reference volume) of the "
+          "homogeneous deformation F (9 numbers row-major; default identity). Statistical "
+          "bodies: the expected value, fluctuations carried by F; at F = I minus the virial part "
+          "of LAMMPS's pressure tensor (docs/temperature.md).")
       .def("__len__", [](const BodyPtr& h) { return h->body->size(); })
       .def("__repr__", [](const BodyPtr& h) {
         const auto& b = *h->body;
@@ -770,7 +756,7 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
       [](std::vector<AtomsPtr> frames, const std::string& potential, const std::string& commands,
          int dimension, std::optional<double> family_cutoff, const std::string& boundary,
          const std::string& statistics, std::optional<double> width, std::optional<int> order,
-         std::optional<std::int64_t> samples) {
+         std::optional<std::int64_t> samples, std::optional<double> temperature) {
         BodyArgs args;
         args.potential = potential;
         args.commands = commands;
@@ -780,13 +766,13 @@ Arrays are read-only numpy views (no copy) that keep the body alive.)doc")
         body::Body b;
         {
           py::gil_scoped_release release;
-          b = build_body(std::move(frames), args, statistics, width, order, samples);
+          b = build_body(std::move(frames), args, statistics, width, order, samples, temperature);
         }
         return std::make_shared<BodyHandle>(std::move(b));
       },
       py::arg("frames"), py::arg("potential"), py::arg("commands"), py::arg("dimension"),
       py::arg("family_cutoff"), py::arg("boundary"), py::arg("statistics"), py::arg("width"),
-      py::arg("order"), py::arg("samples"));
+      py::arg("order"), py::arg("samples"), py::arg("temperature") = py::none());
 
   m.def(
       "_potential_info",

@@ -85,6 +85,30 @@ def test_statistical_body(tmp_path):
     assert np.isfinite(one.energy())
 
 
+def test_statistical_body_temperature_and_stress(tmp_path, pdcg_exe):
+    """temperature= gives the CLI's --temperature body; Body.stress equals `pdcg energy
+    --stress` (the same library call), and 300 in lj units is refused by both."""
+    fcc_dump(tmp_path / "d.lammpstrj", frames=1)
+    (tmp_path / "lj.in").write_text(LJ)
+    frame = pdcg.read_atoms(str(tmp_path / "d.lammpstrj"))
+    b = pdcg.statistical_body(frame, commands=LJ, temperature=0.2, order=4)
+    b.write(str(tmp_path / "py.h5"))
+    out = subprocess.run([pdcg_exe, "-q", "energy", str(tmp_path / "py.h5"), "--F",
+                          "1.01 0 0 0 1 0 0 0 1", "--json", "--stress"],
+                         check=True, capture_output=True, text=True).stdout
+    cli = np.array(json.loads(out)["stress"]).reshape(3, 3)
+    # same call on the same body; OpenMP's reduction order may differ between the two runs
+    np.testing.assert_allclose(b.stress([1.01, 0, 0, 0, 1, 0, 0, 0, 1]), cli, rtol=1e-12,
+                               atol=1e-12 * np.abs(cli).max())
+    with pytest.raises(pdcg.InputError, match="kelvin"):
+        pdcg.statistical_body(frame, commands=LJ, temperature=300)
+    r = subprocess.run([pdcg_exe, "atoms2pd", "--input", str(tmp_path / "d.lammpstrj"),
+                        "--potential", str(tmp_path / "lj.in"), "--density", "statistical",
+                        "--temperature", "300", "-o", str(tmp_path / "t.h5")],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "--temperature" in r.stderr and "kelvin" in r.stderr, r.stderr
+
+
 def test_stub_names_the_api():
     """pdcg/__init__.pyi declares every public name (the stub does not drift from the API)."""
     import ast

@@ -423,6 +423,38 @@ Evaluation Evaluator::homogeneous(const Eigen::Matrix3d& F) {
   return run(y_, F * body_.families.h, F);
 }
 
+Eigen::Matrix3d Evaluator::stress(const Eigen::Matrix3d& F) {
+  const auto& fam = body_.families;
+  const std::size_t n = body_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d yi =
+        F * Eigen::Vector3d(body_.x[3 * i], body_.x[3 * i + 1], body_.x[3 * i + 2]);
+    for (int k = 0; k < 3; ++k) y_[3 * i + static_cast<std::size_t>(k)] = yi[k];
+  }
+  Eigen::Matrix3d du_df = Eigen::Matrix3d::Zero();
+  if (body_.statistics) {
+    detail::statistical_force_states(body_, *body_.statistics, y_, F * fam.h, F, psi_, t_,
+                                     *scratch_, &du_df);
+  } else {
+    run(y_, F * fam.h, F);
+    double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+#pragma omp parallel for schedule(static) reduction(+ : acc[:9])
+    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      for (auto b = static_cast<std::size_t>(fam.offset[i]);
+           b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+        const Eigen::Vector3d xi = atomistic::bond_vector(fam, body_.x, fam.h, i, b);
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            acc[3 * r + c] += t_[3 * b + static_cast<std::size_t>(r)] * xi[c];
+      }
+    }
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) du_df(r, c) = acc[3 * r + c];
+  }
+  return du_df / body_.reference_volume();
+}
+
 std::vector<double> Evaluator::point_energies() const {
   if (!body_.homogenisation)
     throw InputError("point energies need a homogenised body").fix("run `pdcg homogenize` first");

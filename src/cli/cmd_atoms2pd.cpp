@@ -1,6 +1,6 @@
 /// `pdcg atoms2pd --input FILE [--frame N | --frames A:B[:S]] --potential FILE
 ///   --density delta|statistical [--statistics gaussian|empirical] [--order N | --samples N]
-///   [--width W] [--dimension D] [--boundary "p p f"] -o body.h5`
+///   [--width W | --temperature T] [--dimension D] [--boundary "p p f"] -o body.h5`
 /// Builds a PD body from atoms (docs/theory.md §1–2). Periodicity: --boundary, else the
 /// commands file's `boundary`, else the dump header, else (data file) LAMMPS's default p p p,
 /// checked for overlapping images (docs/atomistic-input.md, "Periodicity").
@@ -14,8 +14,8 @@
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/body/build.hpp"
 #include "pdcg/body/model_file.hpp"
-#include "pdcg/body/statistics.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/io/atomic_output.hpp"
 
@@ -26,7 +26,7 @@ struct Options {
                                 boundary;
   std::optional<std::int64_t> frame, samples;
   std::optional<int> order;
-  std::optional<double> width, family_cutoff;
+  std::optional<double> width, temperature, family_cutoff;
   int dimension = 3;
 };
 
@@ -45,8 +45,9 @@ int run(const Options& o) {
         .value(o.statistics)
         .expected("gaussian or empirical");
   const bool statistical = o.density == "statistical";
-  if (!statistical && (o.order || o.samples || o.width || !o.frames.empty()))
-    throw InputError("--order, --samples, --width and --frames belong to statistical densities")
+  if (!statistical && (o.order || o.samples || o.width || o.temperature || !o.frames.empty()))
+    throw InputError(
+        "--order, --samples, --width, --temperature and --frames belong to statistical densities")
         .source("--density")
         .value("delta")
         .fix("add --density statistical, or drop those options");
@@ -97,66 +98,19 @@ int run(const Options& o) {
         .fix("use the potential file the trajectory was produced with");
   atomistic::take_type_charges(spec, ref);  // data-file charges for embedded LAMMPS, per type
   std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
-  body::DeltaBodyOptions opt;
-  opt.dimension = o.dimension;
-  opt.source = o.input;
-  opt.periodicity_assumed = periodicity.assumed;
-  if (o.family_cutoff) {
-    if (!(*o.family_cutoff >= pot->cutoff()))
-      throw InputError("family cutoff below the potential's cutoff")
-          .source("--family-cutoff")
-          .value(fmt::format("{}", *o.family_cutoff))
-          .expected(fmt::format("at least the potential cutoff {}", pot->cutoff()))
-          .fix("omit --family-cutoff, or give the cutoff plus a skin");
-    opt.cutoff = *o.family_cutoff;
-  }
-  body::Body b = body::make_delta_body(ref, pot, spec, opt);
-  b.potential_files = body::embed_potential_files(b.potential_spec);
-  b.provenance.back() += fmt::format(" (potential {}, {})", o.potential, pdcg::command_line());
-  if (statistical) {
-    body::Statistics s;
-    if (o.statistics == "empirical") {
-      s = body::empirical_from_frames(b, frames);
-    } else if (o.width) {
-      if (frames.size() > 1)
-        throw InputError("give --width or several frames, not both").key("--width");
-      s = body::isotropic_gaussian(b, *o.width);
-    } else {
-      if (frames.size() < 2)
-        throw InputError("gaussian densities need a width or several frames")
-            .key("--statistics gaussian")
-            .fix("give --frames A:B (mean and covariance per atom) or --width W (isotropic)");
-      s = body::gaussian_from_frames(b, frames);
-    }
-    if (o.samples) {
-      s.method = body::Statistics::Method::sampling;
-      s.samples = *o.samples;
-    } else {
-      s.method =
-          pot->pairwise() ? body::Statistics::Method::cubature : body::Statistics::Method::sampling;
-      if (o.order) s.order = *o.order;
-      if (o.order && !pot->pairwise())
-        throw InputError("Gauss–Hermite cubature needs a pair potential")
-            .key("--order")
-            .value(pot->style())
-            .fix("use --samples N for many-body potentials");
-    }
-    if (frames.size() > 1) {
-      // families of the mean configuration (not of the first frame): rebuild the delta body at
-      // the means the statistics moved the points to
-      atomistic::Atoms mean = ref;
-      atomistic::sort_by_id(mean, o.input);
-      mean.x = b.x;
-      auto files = std::move(b.potential_files);
-      auto prov = std::move(b.provenance);
-      b = body::make_delta_body(mean, pot, spec, opt);
-      b.potential_files = std::move(files);
-      b.provenance = std::move(prov);
-      b.provenance.push_back(
-          fmt::format("families rebuilt at the mean positions of {} frames", frames.size()));
-    }
-    body::make_statistical(b, std::move(s));
-  }
+  body::BodyRequest request;
+  request.delta.dimension = o.dimension;
+  request.delta.source = o.input;
+  request.delta.periodicity_assumed = periodicity.assumed;
+  request.family_cutoff = o.family_cutoff;
+  if (statistical) request.statistics = o.statistics;
+  request.width = o.width;
+  request.temperature = o.temperature;
+  request.order = o.order;
+  request.samples = o.samples;
+  request.provenance = fmt::format(" (potential {}, {})", o.potential, pdcg::command_line());
+  request.spelling = body::OptionSpelling::command_line;
+  const body::Body b = body::build_body(frames, pot, spec, request);
   body::write_body(b, o.output);
   std::printf("%s: %s body, %zu points, %zu bonds, horizon %.10g, potential %s\n", o.output.c_str(),
               std::string(body::to_string(b.kind)).c_str(), b.size(), b.families.bonds(),
@@ -180,6 +134,10 @@ pdcg::cli::Registration reg(100, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("--order", o->order, "Gauss–Hermite points per dimension (pair potentials)");
   sub->add_option("--samples", o->samples, "Samples for the expected energy (any potential)");
   sub->add_option("--width", o->width, "Isotropic Gaussian width (one frame)");
+  sub->add_option("--temperature", o->temperature,
+                  "Gaussian widths of a local-harmonic (Einstein) estimate at T (one relaxed "
+                  "frame; T in the unit style's temperature unit: k_B T/epsilon in lj, K in "
+                  "metal and real; docs/temperature.md)");
   sub->add_option(
       "--family-cutoff", o->family_cutoff,
       "Family radius (default: the potential cutoff); a skin keeps pairs that come within the "

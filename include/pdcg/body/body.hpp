@@ -212,6 +212,15 @@ class Evaluator {
   /// are carried along (conforming deformation: fluctuations mapped by F).
   Evaluation homogeneous(const Eigen::Matrix3d& F);
 
+  /// First Piola–Kirchhoff stress of the homogeneous deformation, P = ∂W/∂F (energy per
+  /// reference volume; the expected value for statistical bodies, densities carried along):
+  ///   P = (1/V₀) Σ_k Σ_b t_b ⊗ ξ_b                  (delta, rescaled, homogenised layers),
+  ///   P = (1/V₀) E[Σ_k Σ_b t_b ⊗ (ξ_b + η_j − η_k)]   (statistical: the fluctuations η too),
+  /// which at F = I is minus the virial (potential) part of the pressure tensor: the Cauchy
+  /// stress of the frames' average for an empirical body (docs/temperature.md). Also leaves
+  /// the evaluator's work arrays changed (spans of an earlier evaluation are stale).
+  Eigen::Matrix3d stress(const Eigen::Matrix3d& F);
+
   /// Point energies of the homogenised layer E_p = Σ_k w_kp ψ_k from the last evaluation.
   /// Throws InputError when the body is not homogenised.
   std::vector<double> point_energies() const;

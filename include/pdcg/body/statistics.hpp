@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "pdcg/atomistic/atoms.hpp"
@@ -29,10 +30,29 @@ void gauss_hermite(int n, std::vector<double>& nodes, std::vector<double>& weigh
 /// Gaussian statistics with Σ_k = σ² I_d for every atom (first d directions).
 Statistics isotropic_gaussian(const Body& body, double width);
 
-/// Mean and covariance per atom from S ≥ 2 frames with the body's ids (unwrapped positions;
+/// Mean and covariance per atom from S > d frames with the body's ids (unwrapped positions;
 /// periodic jumps are undone by minimum image against the first frame). The body's reference
-/// positions become the means. Throws InputError for ids that differ from the body's.
+/// positions become the means. Throws InputError for ids or types that differ from the body's,
+/// for a periodic edge of the box that differs from the reference frame's (NPT trajectories),
+/// and for S ≤ d (the covariance of S frames has rank ≤ S − 1: singular).
 Statistics gaussian_from_frames(Body& body, std::span<const atomistic::Atoms> frames);
+
+/// Gaussian statistics of a temperature from a local-harmonic (Einstein) estimate
+/// (docs/temperature.md): each atom in the well of its neighbours held at their reference
+/// positions, H_k = ∂²U/∂x_k² (force_state_tangent: Σ_bc K_bc of its own family plus K_bb of
+/// every family it belongs to), and the classical equipartition width
+///   Σ_k = k_B T H_k⁻¹   (first d directions),
+/// k_B the Boltzmann constant of the body's unit style (LAMMPS's force->boltz; 1 in lj).
+/// The neighbours' own motion is left out, so the widths are smaller than those of a
+/// crystal whose atoms all move (by about 30 % in variance for fcc LJ; docs/temperature.md).
+/// Throws InputError for T < 0 or not finite; for an atom whose H_k is not positive
+/// definite (the reference is not a minimum: relax it first); and when the rms displacement
+/// exceeds 0.15 of the nearest-neighbour distance (Lindemann's melting criterion: no crystal
+/// is left to describe; the usual cause is a temperature in kelvin given in lj units). Above
+/// 0.10 a warning says the harmonic estimate is poor near melting. `where` names the option
+/// in messages ("--temperature", "temperature").
+Statistics einstein_statistics(const Body& body, double temperature,
+                               std::string_view where = "temperature");
 
 /// Empirical statistics: the frames themselves (reference positions become their mean).
 Statistics empirical_from_frames(Body& body, std::span<const atomistic::Atoms> frames);

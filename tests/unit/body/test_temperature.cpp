@@ -1,0 +1,400 @@
+// Statistical bodies of MD frames at a temperature (docs/temperature.md). The frames are a
+// LAMMPS NVT run of fcc LJ at T* = 0.2 (32 atoms, 51 frames; tests/data/temperature/
+// make_frames.sh with the workflow's deck workflows/temperature/md.in); LAMMPS also wrote each
+// frame's energy and virial pressure tensor (frames.txt): the reference of the empirical body.
+// The Gaussian body is checked against a Monte Carlo of independent Gaussian atoms drawn here
+// (its own mean, covariance and Cholesky factor, std::mt19937_64), the --temperature widths
+// against the closed form of the Einstein well of the fcc lattice (LJ derivatives written
+// here), and bad input against the messages users need.
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "pdcg/atomistic/configurations.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
+#include "pdcg/atomistic/potentials.hpp"
+#include "pdcg/body/build.hpp"
+#include "pdcg/body/quasi_harmonic.hpp"
+#include "pdcg/body/statistics.hpp"
+#include "pdcg/core/error.hpp"
+#include "pdcg_test.hpp"
+
+using namespace pdcg;
+
+namespace {
+
+const std::string kDir = std::string(PDCG_TEST_DATA_DIR) + "/temperature/";
+constexpr const char* kPotential =
+    "units lj\natom_style atomic\nmass 1 1.0\npair_style lj/cut 2.5\n"
+    "pair_coeff 1 1 1.0 1.0 2.5\npair_modify shift yes\n";
+constexpr double kFamily = 3.0;  // cutoff 2.5 + skin 0.5: every pair within 2.5 in any frame
+
+struct FrameSet {
+  std::vector<atomistic::Atoms> frames;
+  atomistic::PotentialSpec spec;
+  std::shared_ptr<const atomistic::Potential> pot;
+};
+
+FrameSet load(const std::string& file = "frames.dump.gz", const std::string& range = "0:-1") {
+  FrameSet s;
+  atomistic::FrameNeeds needs;
+  needs.type = true;
+  needs.id = true;
+  std::string units;
+  s.frames = atomistic::read_configurations(kDir + file, std::nullopt, range, &units, needs);
+  s.spec = atomistic::read_potential_commands_from_string(kPotential, "<lj>", 1);
+  s.pot = atomistic::make_potential(s.spec);
+  return s;
+}
+
+body::Body build(const FrameSet& s, const std::string& statistics, int order = 4,
+                 std::optional<double> temperature = std::nullopt) {
+  body::BodyRequest r;
+  r.delta.source = "frames.dump.gz";
+  r.family_cutoff = kFamily;
+  r.statistics = statistics;
+  r.temperature = temperature;
+  if (!statistics.empty() && statistics != "empirical") r.order = order;
+  return body::build_body(s.frames, s.pot, s.spec, r);
+}
+
+/// LAMMPS's per-frame values: pe per atom and the virial pressure tensor xx yy zz yz xz xy.
+std::vector<std::array<double, 7>> lammps_frames() {
+  std::ifstream in(kDir + "frames.txt");
+  std::string line;
+  std::vector<std::array<double, 7>> out;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream is(line);
+    double step;
+    std::array<double, 7> v{};
+    is >> step;
+    for (auto& x : v) is >> x;
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError)";
+}
+
+}  // namespace
+
+TEST(Temperature, EmpiricalBodyIsTheLammpsFrameAverage) {
+  const FrameSet s = load();
+  const auto ref = lammps_frames();
+  ASSERT_EQ(ref.size(), s.frames.size());
+  const double n = static_cast<double>(s.frames.front().size());
+  double pe = 0;
+  std::array<double, 6> p{};
+  for (const auto& r : ref) {
+    pe += r[0] / static_cast<double>(ref.size());
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] += r[c + 1] / ref.size();
+  }
+  body::Body b = build(s, "empirical");
+  body::Evaluator ev(b);
+  const double e = ev.reference().energy / n;
+  const Eigen::Matrix3d P = ev.stress(Eigen::Matrix3d::Identity());
+  // round-off: 32 × ~100 pair terms summed in another order from 17-digit positions
+  EXPECT_TRUE(test::close(e, pe, {0, 1e-12})) << e << " vs LAMMPS " << pe;
+  // σ = −p (virial part): P at F = I is the mean Cauchy stress of the frames
+  const double pxx[6] = {-P(0, 0), -P(1, 1), -P(2, 2), -P(1, 2), -P(0, 2), -P(0, 1)};
+  EXPECT_TRUE(test::all_close(pxx, p, {1e-11 * std::abs(p[0]), 1e-11}));  // same round-off
+  std::printf("empirical: E/N %.15g (LAMMPS %.15g), p_xx %.12g (LAMMPS %.12g)\n", e, pe, pxx[0],
+              p[0]);
+}
+
+TEST(Temperature, GaussianCubatureIsTheExpectationOfIndependentGaussianAtoms) {
+  const FrameSet s = load();
+  body::Body g = build(s, "gaussian", 6);
+  body::Evaluator eg(g);
+  const double e_cub = eg.reference().energy;
+  const Eigen::Matrix3d P_cub = eg.stress(Eigen::Matrix3d::Identity());
+  // Monte Carlo written here: mean and covariance (divisor S) of each atom's frames by minimum
+  // image against frame 0, independent draws x̄ + L z (L Lᵀ = Σ), energies of the delta body
+  // of the means at the draws, virial Σ_b t_b ⊗ Y_b.
+  const std::size_t n = s.frames.front().size(), S = s.frames.size();
+  std::vector<atomistic::Atoms> sorted = s.frames;
+  for (auto& f : sorted) atomistic::sort_by_id(f);
+  const Eigen::Vector3d L = sorted.front().box.lengths();
+  std::vector<Eigen::Vector3d> mean(n, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Matrix3d> cov(n, Eigen::Matrix3d::Zero());
+  std::vector<std::vector<Eigen::Vector3d>> u(S, std::vector<Eigen::Vector3d>(n));
+  for (std::size_t f = 0; f < S; ++f)
+    for (std::size_t i = 0; i < n; ++i) {
+      Eigen::Vector3d d;
+      for (int a = 0; a < 3; ++a) {
+        d[a] = sorted[f].x[3 * i + a] - sorted[0].x[3 * i + a];
+        d[a] -= L[a] * std::round(d[a] / L[a]);
+      }
+      u[f][i] = d;
+      mean[i] += d / static_cast<double>(S);
+    }
+  for (std::size_t f = 0; f < S; ++f)
+    for (std::size_t i = 0; i < n; ++i)
+      cov[i] += (u[f][i] - mean[i]) * (u[f][i] - mean[i]).transpose() / static_cast<double>(S);
+  atomistic::Atoms at = sorted[0];
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) at.x[3 * i + a] += mean[i][a];
+  const body::Body delta = body::make_delta_body(at, s.pot, s.spec, {3, kFamily, "means", false});
+  body::Evaluator ed(delta);
+  std::mt19937_64 rng(2024);
+  std::normal_distribution<double> z(0.0, 1.0);
+  std::vector<Eigen::Matrix3d> chol(n);
+  for (std::size_t i = 0; i < n; ++i) chol[i] = Eigen::LLT<Eigen::Matrix3d>(cov[i]).matrixL();
+  const int M = 1000;
+  double se = 0, se2 = 0, sp = 0, sp2 = 0;
+  std::vector<double> y(3 * n);
+  const double V = L.prod();
+  for (int m = 0; m < M; ++m) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d d = chol[i] * Eigen::Vector3d(z(rng), z(rng), z(rng));
+      for (int a = 0; a < 3; ++a) y[3 * i + a] = delta.x[3 * i + a] + d[a];
+    }
+    const auto e = ed.deformed(y);
+    double tr = 0;  // tr Σ_b t_b ⊗ Y_b
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto b = delta.families.offset[i]; b < delta.families.offset[i + 1]; ++b) {
+        const Eigen::Vector3d Y = atomistic::bond_vector(delta.families, y, delta.families.h, i,
+                                                         static_cast<std::size_t>(b));
+        for (int a = 0; a < 3; ++a) tr += e.t[3 * static_cast<std::size_t>(b) + a] * Y[a];
+      }
+    const double p = -tr / (3 * V);
+    se += e.energy;
+    se2 += e.energy * e.energy;
+    sp += p;
+    sp2 += p * p;
+  }
+  const double e_mc = se / M, e_err = std::sqrt((se2 / M - e_mc * e_mc) / (M - 1));
+  const double p_mc = sp / M, p_err = std::sqrt((sp2 / M - p_mc * p_mc) / (M - 1));
+  const double p_cub = -P_cub.trace() / 3;
+  std::printf("gaussian: E/N cubature %.8f, Monte Carlo %.8f ± %.1e; p %.6f vs %.6f ± %.1e\n",
+              e_cub / n, e_mc / n, e_err / n, p_cub, p_mc, p_err);
+  // 4 standard errors of the Monte Carlo mean (a false alarm once in ~16000 runs; the seed is
+  // fixed) plus the cubature error at order 6 (< 1e-5 per atom for shifted LJ, docs/bodies.md)
+  EXPECT_LT(std::abs(e_cub - e_mc), 4 * e_err + 1e-5 * n);
+  EXPECT_LT(std::abs(p_cub - p_mc), 4 * p_err + 1e-4);
+}
+
+TEST(Temperature, SampledStressIsTheCubatureStress) {
+  // The sampling path of Evaluator::stress (joint draws, fluctuations in the reference bonds)
+  // against the cubature path on the same Gaussian body.
+  const FrameSet s = load();
+  body::Body g = build(s, "gaussian", 6);
+  body::Evaluator ec(g);
+  const Eigen::Matrix3d Pc = ec.stress(Eigen::Matrix3d::Identity());
+  body::Statistics st = *g.statistics;
+  st.method = body::Statistics::Method::sampling;
+  st.samples = 400;
+  body::Body gs = g;
+  gs.statistics = st;
+  body::Evaluator es(gs);
+  const Eigen::Matrix3d Ps = es.stress(Eigen::Matrix3d::Identity());
+  std::printf("p cubature %.5f, sampling (400) %.5f\n", -Pc.trace() / 3, -Ps.trace() / 3);
+  // one draw's pressure scatters by ≈ 0.37 (Monte Carlo of the test above: 1.2e-2 × √1000),
+  // so 400 draws ≈ 0.019: 5 of those
+  EXPECT_LT(std::abs(Pc.trace() - Ps.trace()) / 3, 0.1);
+  // at F = I every sampled term t_b ⊗ Y_b is symmetric (pair forces along the bond)
+  EXPECT_LT((Ps - Ps.transpose()).norm(), 1e-12 * Ps.norm());
+}
+
+TEST(Temperature, GaussianEqualsTheDecorrelatedFrames) {
+  // Each atom's frame index permuted independently (10 shuffles of the 51 frames): samples of
+  // independent atoms with the frames' own, non-Gaussian marginals. Their average (the
+  // empirical body of the shuffled frames) is the Gaussian body's expectation up to its
+  // sampling error and the non-Gaussian part of the marginals.
+  FrameSet s = load();
+  for (auto& f : s.frames) atomistic::sort_by_id(f);
+  const std::size_t n = s.frames.front().size(), S = s.frames.size();
+  const Eigen::Vector3d L = s.frames.front().box.lengths();
+  std::vector<atomistic::Atoms> shuffled;
+  std::mt19937_64 rng(7);
+  for (int r = 0; r < 10; ++r) {
+    std::vector<std::vector<std::size_t>> perm(n, std::vector<std::size_t>(S));
+    for (auto& p : perm) {
+      std::iota(p.begin(), p.end(), std::size_t{0});
+      std::shuffle(p.begin(), p.end(), rng);
+    }
+    for (std::size_t f = 0; f < S; ++f) {
+      atomistic::Atoms a = s.frames[f];
+      for (std::size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+          // minimum image against frame 0, so every frame holds one image of the atom
+          double d = s.frames[perm[i][f]].x[3 * i + c] - s.frames[0].x[3 * i + c];
+          d -= L[c] * std::round(d / L[c]);
+          a.x[3 * i + c] = s.frames[0].x[3 * i + c] + d;
+        }
+      shuffled.push_back(std::move(a));
+    }
+  }
+  FrameSet sh = s;
+  sh.frames = shuffled;
+  body::Body e = build(sh, "empirical");
+  body::Body g = build(s, "gaussian", 6);
+  body::Evaluator ee(e), eg(g);
+  // the shuffled frames' scatter: energies of each (delta bodies of the same families)
+  body::Body d = build(sh, "");
+  body::Evaluator ed(d);
+  std::vector<double> u;
+  for (const auto& f : shuffled) {
+    atomistic::Atoms a = f;
+    atomistic::sort_by_id(a);
+    u.push_back(ed.deformed(a.x).energy);
+  }
+  double m = 0, m2 = 0;
+  for (double x : u) m += x / static_cast<double>(u.size());
+  for (double x : u) m2 += (x - m) * (x - m) / static_cast<double>(u.size() - 1);
+  const double se = std::sqrt(m2 / static_cast<double>(u.size()));
+  const double e_emp = ee.reference().energy, e_g = eg.reference().energy;
+  std::printf("E/N gaussian %.6f, decorrelated frames %.6f ± %.1e\n", e_g / n, e_emp / n, se / n);
+  // 4 standard errors (frames of one shuffle share values: the error is a lower bound, but the
+  // 10 shuffles make the 510 samples nearly independent); non-Gaussian marginals at T* = 0.2
+  // measured below 1e-4 per atom in 4×4×4 cells (docs/temperature.md)
+  EXPECT_LT(std::abs(e_g - e_emp), 4 * se + 1e-4 * n);
+}
+
+TEST(Temperature, IndependentAtomsMissTheCorrelationEnergy) {
+  // The frames are correlated (neighbours move together); the Gaussian body of independent
+  // atoms with the same marginal covariances sees larger relative displacements, so its
+  // expected energy lies above the frame average (docs/temperature.md: the cost, measured).
+  const FrameSet s = load();
+  body::Body e = build(s, "empirical");
+  body::Body g = build(s, "gaussian", 4);
+  body::Evaluator ee(e), eg(g);
+  const double n = static_cast<double>(e.size());
+  const double de = (eg.reference().energy - ee.reference().energy) / n;
+  std::printf("E/N gaussian − empirical = %.5f (k_B T = 0.2)\n", de);
+  // for a harmonic crystal E_indep − E_MD = Σ_bonds k cov(u_j, u_k) > 0; the frame average's
+  // own scatter is ≈ 0.01 per atom (51 frames of 32 atoms)
+  EXPECT_GT(de, 0.02);
+}
+
+TEST(Temperature, TemperatureWidthsAreTheEinsteinWellOfTheLattice) {
+  // Closed form: in a cubic lattice the Hessian of U with respect to one atom, neighbours held,
+  // is isotropic, h I with h = (1/3) Σ_j [φ''(r_j) + 2 φ'(r_j)/r_j] over all partners within
+  // the cutoff (every periodic image), so Σ = (k_B T / h) I (k_B = 1 in lj units).
+  FrameSet s = load("lattice.dump", "0:0");
+  const double T = 0.2;
+  body::Body b = build(s, "gaussian", 4, T);
+  const double L = s.frames[0].box.lengths()[0], a = L / 2;  // 2×2×2 cells
+  double h = 0;
+  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int k = -3; k <= 3; ++k)
+        for (const auto& q : basis) {
+          const double r =
+              a * std::sqrt(std::pow(i + q[0], 2) + std::pow(j + q[1], 2) + std::pow(k + q[2], 2));
+          if (r == 0 || r >= 2.5) continue;
+          const double d1 = -48 * std::pow(r, -13) + 24 * std::pow(r, -7);   // φ'
+          const double d2 = 624 * std::pow(r, -14) - 168 * std::pow(r, -8);  // φ''
+          h += (d2 + 2 * d1 / r) / 3;
+        }
+  const double var = T / h;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const Eigen::Matrix3d C = b.statistics->covariance_of(i);
+    const Eigen::Matrix3d E = var * Eigen::Matrix3d::Identity();
+    // round-off of the 17-digit relaxed lattice (sites exact to ~1e-12 after minimize)
+    ASSERT_TRUE(test::all_close(C.reshaped(), E.reshaped(), {1e-9 * var, 0})) << "atom " << i;
+  }
+  // the frames' widths, for docs/temperature.md: in this 2×2×2 cell they are within 1 % of
+  // (2.5), in 4×4×4 cells 1.5× larger (the long waves the small cell lacks carry most of ⟨u²⟩)
+  const FrameSet f = load();
+  body::Body g = build(f, "gaussian", 4);
+  double fitted = 0;
+  for (std::size_t i = 0; i < g.size(); ++i)
+    fitted += g.statistics->covariance_of(i).trace() / (3.0 * static_cast<double>(g.size()));
+  std::printf("⟨u²⟩ per direction: frames %.4e, Einstein (--temperature %.1f) %.4e, ratio %.3f\n",
+              fitted, T, var, fitted / var);
+}
+
+TEST(Temperature, FramesOfAnotherBoxAreRefused) {
+  FrameSet s = load();
+  s.frames[3].box.hi *= 1.01;  // an NPT frame
+  const std::string m = message_of([&] { build(s, "gaussian"); });
+  EXPECT_NE(m.find("another box"), std::string::npos) << m;
+  EXPECT_NE(m.find("frame 3"), std::string::npos) << m;
+  EXPECT_NE(m.find("constant volume"), std::string::npos) << m;
+}
+
+TEST(Temperature, FramesOfAnotherAtomSetAreRefused) {
+  FrameSet s = load();
+  FrameSet t = s;
+  t.frames[2].id.back() += 1000;  // another atom
+  std::string m = message_of([&] { build(t, "empirical"); });
+  EXPECT_NE(m.find("does not hold the body's atoms"), std::string::npos) << m;
+  t = s;
+  t.frames[5].type[7] = 2;  // another species
+  m = message_of([&] { build(t, "gaussian"); });
+  EXPECT_NE(m.find("another type"), std::string::npos) << m;
+  EXPECT_NE(m.find("frame 5"), std::string::npos) << m;
+}
+
+TEST(Temperature, TooFewFramesForACovarianceAreRefused) {
+  FrameSet s = load("frames.dump.gz", "0:2");  // 3 frames: covariance of rank ≤ 2 in 3D
+  const std::string m = message_of([&] { build(s, "gaussian"); });
+  EXPECT_NE(m.find("too few frames for a covariance"), std::string::npos) << m;
+  EXPECT_NE(m.find("empirical"), std::string::npos) << m;  // the fix names the alternative
+  EXPECT_NO_THROW(build(s, "empirical"));                  // an average needs no covariance
+  FrameSet four = load("frames.dump.gz", "0:3");
+  EXPECT_NO_THROW(build(four, "gaussian"));
+}
+
+TEST(Temperature, TemperatureInTheWrongUnitsIsRefusedWithTheFix) {
+  FrameSet s = load("lattice.dump", "0:0");
+  // 300 in lj units: k_B T = 300 ε, far beyond melting (a temperature in kelvin)
+  std::string m = message_of([&] { build(s, "gaussian", 4, 300.0); });
+  EXPECT_NE(m.find("beyond melting"), std::string::npos) << m;
+  EXPECT_NE(m.find("kelvin"), std::string::npos) << m;
+  EXPECT_NE(m.find("units lj"), std::string::npos) << m;
+  m = message_of([&] { build(s, "gaussian", 4, -1.0); });
+  EXPECT_NE(m.find("non-negative"), std::string::npos) << m;
+  EXPECT_NO_THROW(build(s, "gaussian", 4, 0.4));
+  // --temperature with frames: the frames give the widths
+  FrameSet f = load();
+  m = message_of([&] { build(f, "gaussian", 4, 0.2); });
+  EXPECT_NE(m.find("several frames"), std::string::npos) << m;
+}
+
+TEST(Temperature, QuasiHarmonicPressureIsThatOfLammpsHessians) {
+  // Reference: workflows/temperature/qha.py 1.54960342408947 2 0.2 — the Hessian of this cell
+  // from LAMMPS forces (central differences, step 1e-5) at a₀(1 ± 10⁻³), p = −∂F/∂V of the
+  // classical harmonic free energy: 1.8680360 (total pressure, kinetic part included).
+  const double p_lammps = 1.8680360;
+  FrameSet s = load("lattice.dump", "0:0");
+  const body::Body b = build(s, "");
+  const double T = 0.2, h = 1e-4;
+  auto w = [&](double e) {
+    return body::quasi_harmonic(b, (1 + e) * Eigen::Matrix3d::Identity(), T).free_energy_density;
+  };
+  // F = (1 + e) I: dW_T/de = tr P = −3p at e = 0 (P = σ there)
+  const double p = -(w(h) - w(-h)) / (2 * h) / 3;
+  std::printf("quasi-harmonic p at T* = 0.2: pdcg %.7f, LAMMPS Hessians %.7f\n", p, p_lammps);
+  // both sides are central differences in the volume (h = 1e-3 there, 1e-4 here): O(h²)
+  // truncation ≈ 1e-6 relative; the reference has 8 digits
+  EXPECT_TRUE(test::close(p, p_lammps, {0, 1e-5}));
+  // a statistical body has no such free energy (yet): refused with the fix
+  const FrameSet f = load();
+  const body::Body g = build(f, "empirical");
+  const std::string m =
+      message_of([&] { body::quasi_harmonic(g, Eigen::Matrix3d::Identity(), T); });
+  EXPECT_NE(m.find("delta body"), std::string::npos) << m;
+}
