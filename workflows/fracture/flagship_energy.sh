@@ -8,6 +8,9 @@
 #      {criterion: fracture_energy, surface_energy: γ_relaxed}, loaded to strain 0.12 in 36 steps
 #      (the stretch rule's 0.084 in 24 steps ends before this rule's peak);
 #   4. peak nominal stress (grip force / width) and the strain at the peak.
+# Measured 2026-12-02: the peak is reached in ≈ 40 s, but the unstable pass at strain 0.083
+# (adaptive dynamic relaxation) had not finished after 26 min; read sheet/pd_fe/reactions.csv
+# while it runs (docs/fracture.md §5.4).
 # Usage: workflows/fracture/flagship_energy.sh [path/to/pdcg] [out_dir]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
