@@ -220,6 +220,10 @@ class RuptureEffect final : public Effect {
     return {
         {"rupture.critical", K::real, 0, true, inf, true,
          "a critical value > 0 (a stretch > 1, or an energy density > 0)"},
+        {"rupture.G_c", K::real, 0, true, inf, true,
+         "a critical energy release rate G_c > 0 (energy per unit crack area)"},
+        {"rupture.surface_energy", K::real, 0, true, inf, true,
+         "a surface energy γ > 0 (energy per unit area; G_c = 2γ)"},
         {"rupture.max_passes", K::integer, 1, false, inf, true, "an integer ≥ 1"},
         {"rupture.check_every", K::integer, 1, false, inf, true, "an integer ≥ 1 (time steps)"}};
   }
@@ -233,15 +237,50 @@ class RuptureEffect final : public Effect {
       if (!r)
         throw c.err(root["effects"], "rupture", "rupture is listed but has no settings")
             .expected("rupture: {criterion: bond_stretch, critical: 2.5}");
-      c.keys(r, "rupture", {"criterion", "critical", "max_passes", "check_every"});
+      c.keys(r, "rupture",
+             {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy"});
       if (r["criterion"])
         s.rupture_options.criterion = solver::parse_rupture_criterion(
             c.choice(r["criterion"], "rupture.criterion",
-                     {"bond_stretch", "principal_stretch", "energy_density"}));
-      if (!r["critical"])
-        throw c.err(r, "rupture.critical", "missing key")
-            .expected("the critical value of the criterion, e.g. critical: 2.5");
-      s.rupture_options.critical = c.number(r["critical"], "rupture.critical");
+                     {"bond_stretch", "principal_stretch", "energy_density", "fracture_energy"}));
+      const bool griffith =
+          s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy;
+      if (griffith) {
+        // calibrated from the energy release rate: G_c, or G_c = 2γ (docs/fracture.md §5)
+        if (r["critical"])
+          throw c
+              .err(r["critical"], "rupture.critical",
+                   "fracture_energy is calibrated from the energy release rate, not a critical "
+                   "value")
+              .fix(
+                  "replace critical by G_c: <energy per unit crack area> (or surface_energy: "
+                  "γ, G_c = 2γ)");
+        if (r["G_c"] && r["surface_energy"])
+          throw c
+              .err(r["surface_energy"], "rupture.surface_energy",
+                   "both G_c and surface_energy given (G_c = 2γ: one determines the other)")
+              .fix("keep one of them");
+        if (!r["G_c"] && !r["surface_energy"])
+          throw c.err(r, "rupture.G_c", "missing key")
+              .expected(
+                  "G_c: <critical energy release rate> or surface_energy: <γ>, e.g. "
+                  "rupture: {criterion: fracture_energy, G_c: 0.01}");
+        s.rupture_options.fracture_energy =
+            r["G_c"] ? c.number(r["G_c"], "rupture.G_c")
+                     : 2.0 * c.number(r["surface_energy"], "rupture.surface_energy");
+        s.rupture_options.critical = 1.0;
+      } else {
+        for (const char* k : {"G_c", "surface_energy"})
+          if (r[k])
+            throw c
+                .err(r[k], std::string("rupture.") + k,
+                     "G_c / surface_energy calibrate the fracture_energy criterion only")
+                .fix("set criterion: fracture_energy, or remove " + std::string(k));
+        if (!r["critical"])
+          throw c.err(r, "rupture.critical", "missing key")
+              .expected("the critical value of the criterion, e.g. critical: 2.5");
+        s.rupture_options.critical = c.number(r["critical"], "rupture.critical");
+      }
       if (r["max_passes"] && s.inertia)
         throw c
             .err(r["max_passes"], "rupture.max_passes",
@@ -265,14 +304,15 @@ class RuptureEffect final : public Effect {
       }
       if (r["max_passes"])
         s.rupture_options.max_passes = c.integer(r["max_passes"], "rupture.max_passes");
-      const bool stretch = s.rupture_options.criterion != solver::RuptureCriterion::energy_density;
+      const bool stretch =
+          s.rupture_options.criterion != solver::RuptureCriterion::energy_density && !griffith;
       if (stretch && !(s.rupture_options.critical > 1.0))
         throw c
             .err(r["critical"], "rupture.critical",
                  "a critical stretch must exceed 1: the undeformed body (stretch 1) would break")
             .value(r["critical"].Scalar())
             .expected("a stretch > 1, e.g. 2.5");
-      if (!stretch && !(s.rupture_options.critical > 0.0))
+      if (!stretch && !griffith && !(s.rupture_options.critical > 0.0))
         throw c
             .err(r["critical"], "rupture.critical",
                  "a critical energy density must be positive: the undeformed body (Ψ = 0) "
@@ -292,8 +332,11 @@ class RuptureEffect final : public Effect {
     auto& y = out.yaml();
     if (s.rupture) {
       y << YAML::Key << "rupture" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-        << "criterion" << YAML::Value << solver::to_string(s.rupture_options.criterion) << YAML::Key
-        << "critical" << YAML::Value << s.rupture_options.critical;
+        << "criterion" << YAML::Value << solver::to_string(s.rupture_options.criterion);
+      if (s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy)
+        y << YAML::Key << "G_c" << YAML::Value << s.rupture_options.fracture_energy;
+      else
+        y << YAML::Key << "critical" << YAML::Value << s.rupture_options.critical;
       if (s.inertia)
         y << YAML::Key << "check_every" << YAML::Value << s.rupture_options.check_every;
       else

@@ -57,10 +57,19 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
   if (s.rupture) {
     rupture = std::make_unique<solver::Rupture>(body, model, s.rupture_options);
     ex->attach_rupture(rupture.get());
-    log::info("dynamic fracture: {} > {} breaks a bond (checked every {} step{})",
-              solver::to_string(s.rupture_options.criterion), s.rupture_options.critical,
-              s.rupture_options.check_every, s.rupture_options.check_every == 1 ? "" : "s");
+    if (s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy)
+      log::info(
+          "dynamic fracture: fracture_energy, G_c = {:.6g} (ψ_c = {:.6g}; checked every {} "
+          "step{})",
+          s.rupture_options.fracture_energy, rupture->critical_energy_density(),
+          s.rupture_options.check_every, s.rupture_options.check_every == 1 ? "" : "s");
+    else
+      log::info("dynamic fracture: {} > {} breaks a bond (checked every {} step{})",
+                solver::to_string(s.rupture_options.criterion), s.rupture_options.critical,
+                s.rupture_options.check_every, s.rupture_options.check_every == 1 ? "" : "s");
   }
+  const bool griffith =
+      rupture && s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy;
   const RunContext context{s, dir, body, model, material, dsets, true};
   const auto runs = attach_effects(s, context);
   log::info("explicit dynamics: {} steps of {:.6g} to t = {:.6g} (stable limit {:.6g}, {:.3g}×)",
@@ -101,6 +110,9 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     if (rupture)
       rupture->restore(restart->h5->read_int("rupture/broken"), {}, {},
                        restart->h5->read_int("rupture/point_stencils_off"));
+    if (griffith)
+      rupture->restore_work(restart->vec("rupture/work"), restart->vec("rupture/work_psi"),
+                            restart->h5->attribute_double("/", "dissipated_energy"));
     if (st.u.size() != static_cast<Eigen::Index>(model.dofs()))
       throw InputError("the checkpoint does not fit the scene's body")
           .source(restart->file.string());
@@ -117,6 +129,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
         if (ds.component[a]) csv << "," << ds.name << "_f" << axes[a];
     if (!s.damping_type.empty()) csv << ",damping_coefficient";
     if (rupture) csv << ",broken_bonds";
+    if (griffith) csv << ",dissipated_energy";
     for (const auto& [name, run] : runs)
       for (const auto& col : run->columns()) csv << "," << col;
     csv << "\n";
@@ -135,6 +148,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     }
     if (!s.damping_type.empty()) csv << "," << fmt::format("{:.17g}", ex->damping_coefficient());
     if (rupture) csv << "," << body.broken_bonds();
+    if (griffith) csv << "," << fmt::format("{:.17g}", rupture->dissipated_energy());
     csv << effect_values(runs, {n, ex->time(), ex->displacement(), &ex->velocity()}, "{:.17g}");
     csv << "\n";
     return ek + ei;
@@ -227,6 +241,11 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
         h5->write("rupture/broken", rupture->broken_pairs());
         const auto po = body.suppressed_point_stencils();
         h5->write("rupture/point_stencils_off", std::vector<std::int64_t>(po.begin(), po.end()));
+        if (griffith) {
+          h5->write("rupture/work", rupture->bond_work());
+          h5->write("rupture/work_psi", rupture->bond_work_last_psi());
+          h5->attribute("/", "dissipated_energy", rupture->dissipated_energy());
+        }
       }
       for (const auto& [name, run] : runs) run->checkpoint(*h5, "effects/" + name);
       finish_checkpoint(*h5, dir, n);

@@ -101,9 +101,18 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   std::unique_ptr<solver::Rupture> rupture;
   if (s.rupture) {
     rupture = std::make_unique<solver::Rupture>(body, model, s.rupture_options);
-    log::info("rupture: {} > {} breaks a bond; staggered re-equilibration at fixed load",
-              solver::to_string(s.rupture_options.criterion), s.rupture_options.critical);
+    if (s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy)
+      log::info(
+          "rupture: fracture_energy, G_c = {:.6g}: a bond breaks when the work done on it "
+          "exceeds ψ_c (V_iφ̂_ijV_j + V_jφ̂_jiV_i), ψ_c = G_c/(β_d δ) = {:.6g}; staggered "
+          "re-equilibration at fixed load",
+          s.rupture_options.fracture_energy, rupture->critical_energy_density());
+    else
+      log::info("rupture: {} > {} breaks a bond; staggered re-equilibration at fixed load",
+                solver::to_string(s.rupture_options.criterion), s.rupture_options.critical);
   }
+  const bool griffith =
+      rupture && s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy;
   // the run parts of the listed effects that have one (registered effects; effect.hpp)
   const RunContext context{s, dir, body, model, *material, dsets, false};
   const auto runs = attach_effects(s, context);
@@ -126,6 +135,9 @@ void run_scene(const Scene& s, const RunOptions& ro) {
                        restart->h5->exists("rupture/point_stencils_off")
                            ? restart->h5->read_int("rupture/point_stencils_off")
                            : std::vector<std::int64_t>{});
+      if (griffith)
+        rupture->restore_work(restart->vec("rupture/work"), restart->vec("rupture/work_psi"),
+                              restart->h5->attribute_double("/", "dissipated_energy"));
     }
     for (const auto& [name, run] : runs) run->restore(*restart->h5, "effects/" + name);
     solver.restore(vec_of(restart->vec("state/u")), vec_of(restart->vec("state/f")), restart->t,
@@ -139,6 +151,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       for (int a = 0; a < d; ++a)
         if (ds.component[a]) csv << "," << ds.name << "_f" << axes[a];
     if (rupture) csv << ",broken_bonds";
+    if (griffith) csv << ",dissipated_energy";
     for (const auto& [name, run] : runs)
       for (const auto& col : run->columns()) csv << "," << col;
     csv << "\n";
@@ -147,6 +160,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       for (int a = 0; a < d; ++a)
         if (dsets[i].component[a]) csv << ",0";
     if (rupture) csv << ",0";
+    if (griffith) csv << ",0";
     csv << effect_values(runs, {0, 0.0, solver.displacement(), nullptr}, "{:.10g}");
     csv << "\n";
   }
@@ -166,6 +180,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
         if (dsets[i].component[a]) csv << "," << fmt::format("{:.10g}", r(a));
     }
     if (rupture) csv << "," << body.broken_bonds();
+    if (griffith) csv << "," << fmt::format("{:.10g}", rupture->dissipated_energy());
     csv << effect_values(runs, {rep.step, rep.t, solver.displacement(), nullptr}, "{:.10g}");
     csv << "\n";
     write_csv();
@@ -206,6 +221,11 @@ void run_scene(const Scene& s, const RunOptions& ro) {
         const auto& ap = model.anchors();
         h5->write("rupture/anchor_points", std::vector<std::int64_t>(ap.begin(), ap.end()));
         h5->write("rupture/anchor_targets", model.anchor_targets());
+        if (griffith) {
+          h5->write("rupture/work", rupture->bond_work());
+          h5->write("rupture/work_psi", rupture->bond_work_last_psi());
+          h5->attribute("/", "dissipated_energy", rupture->dissipated_energy());
+        }
       }
       for (const auto& [name, run] : runs) run->checkpoint(*h5, "effects/" + name);
       finish_checkpoint(*h5, dir, k);

@@ -16,10 +16,22 @@ RuptureCriterion parse_rupture_criterion(const std::string& name) {
   if (name == "bond_stretch") return RuptureCriterion::bond_stretch;
   if (name == "principal_stretch") return RuptureCriterion::principal_stretch;
   if (name == "energy_density") return RuptureCriterion::energy_density;
+  if (name == "fracture_energy") return RuptureCriterion::fracture_energy;
   throw InputError("unknown rupture criterion")
       .key("rupture.criterion")
       .value(name)
-      .expected("one of: bond_stretch, principal_stretch, energy_density");
+      .expected("one of: bond_stretch, principal_stretch, energy_density, fracture_energy");
+}
+
+double fracture_energy_shape_factor(int dimension) {
+  // ⟨|ξ·n|⟩/δ over an interior family weighted by φ̂(r) ∝ overlap of two δ-balls at distance r
+  // (docs/fracture.md §5: 3D ∫₀¹s³f/(2∫₀¹s²f), 2D 2∫₀¹s²f/(π∫₀¹s f), f the overlap fraction).
+  const double pi = 3.14159265358979323846, r3 = 1.7320508075688772935;
+  if (dimension == 3) return 61.0 / 175.0;
+  if (dimension == 2)
+    return 8.0 * (128.0 + 20.0 * pi - 81.0 * r3) / (45.0 * pi * (4.0 * pi - 3.0 * r3));
+  throw Error(
+      fmt::format("internal error: fracture_energy_shape_factor of dimension {}", dimension));
 }
 
 std::string to_string(RuptureCriterion c) {
@@ -30,6 +42,8 @@ std::string to_string(RuptureCriterion c) {
       return "principal_stretch";
     case RuptureCriterion::energy_density:
       return "energy_density";
+    case RuptureCriterion::fracture_energy:
+      return "fracture_energy";
   }
   return "?";
 }
@@ -43,6 +57,56 @@ Rupture::Rupture(Discretization& body, Model& model, RuptureOptions options)
   Mat3 P;
   model.material().evaluate(Mat3::Identity(), nullptr, &P, &A);
   anchor_stiffness_ = A.cwiseAbs().maxCoeff() * std::pow(body.spacing(), body.dimension() - 2);
+  if (opt_.criterion == RuptureCriterion::fracture_energy) {
+    if (!(opt_.fracture_energy > 0) || !std::isfinite(opt_.fracture_energy))
+      throw InputError(
+          "the fracture_energy rupture criterion needs a critical energy release "
+          "rate G_c > 0")
+          .key("rupture.G_c")
+          .value(fmt::format("{}", opt_.fracture_energy))
+          .expected("G_c > 0 (or surface_energy γ > 0, G_c = 2γ)");
+    opt_.critical = 1.0;  // the criterion value is W_ij / W_c,ij
+    psi_c_ =
+        opt_.fracture_energy / (fracture_energy_shape_factor(body.dimension()) * body.horizon());
+    const Csr& fam = body.families();
+    const Stencils& S = body.bond_stencils();
+    const std::size_t nb = fam.index.size();
+    reverse_.assign(nb, -1);
+    work_c_.assign(nb, 0.0);
+    work_.assign(nb, 0.0);
+    psi_last_.assign(nb, 0.0);
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      double psi0 = 0;  // Ψ(I) of the material at i (a Cauchy–Born W need not vanish there)
+      model.material().evaluate_at(static_cast<int>(i), Mat3::Identity(), &psi0, nullptr, nullptr);
+      for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+        const auto r = body.bond_index(fam.index[q], static_cast<int>(i));
+        if (r < 0) throw Error("internal error: family not symmetric");
+        reverse_[q] = r;
+        psi_last_[q] = psi0;
+        // both directions' reference weights V_iφ̂⁰_ijV_j: the pair's share of Ψ|Ω|
+        work_c_[q] = psi_c_ * (S.weight[q] + S.weight[r]);
+      }
+    }
+  }
+}
+
+void Rupture::restore_work(std::vector<double> work, std::vector<double> last_psi,
+                           double dissipated) {
+  if (work.size() != work_.size() || last_psi.size() != psi_last_.size())
+    throw InputError("checkpoint: the bond work arrays do not match the body")
+        .key("rupture/work")
+        .value(fmt::format("{} values", work.size()))
+        .expected(fmt::format("{} (one per directed bond)", work_.size()));
+  work_ = std::move(work);
+  psi_last_ = std::move(last_psi);
+  dissipated_ = dissipated;
+}
+
+bool Rupture::break_pair(int i, std::int64_t q) {
+  const int j = body_->families().index[q];
+  if (!body_->break_bond(i, j)) return false;
+  if (!work_.empty()) dissipated_ += work_[q] + work_[reverse_[q]];
+  return true;
 }
 
 double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
@@ -77,6 +141,19 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
           for (int a = 0; a < d; ++a)
             for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
         }
+        if (opt_.criterion == RuptureCriterion::fracture_energy) {
+          // Hyperelastic: P = ∂Ψ/∂F, so ∫ φ̂ P:dF over the interval since the last check
+          // (φ̂ constant in it: the weight changes only at rebuilds) is φ̂ ΔΨ on any path.
+          double psi = 0;
+          if (mat.evaluate_at(static_cast<int>(i), F, &psi, nullptr, nullptr)) {
+            work_[q] += S.weight[q] * (psi - psi_last_[q]);
+            psi_last_[q] = psi;
+            dir[q] = 0.0;  // the pair ratio follows below
+          } else {
+            dir[q] = std::numeric_limits<double>::infinity();
+          }
+          continue;
+        }
         if (opt_.criterion == RuptureCriterion::energy_density) {
           double psi = 0;
           // inadmissible F (J ≤ 0) counts as past every criterion
@@ -90,6 +167,23 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
         }
       }
       // NaN counts as past the criterion (and as the maximum)
+      vmax = std::isnan(dir[q]) ? std::numeric_limits<double>::infinity() : std::max(vmax, dir[q]);
+    }
+  if (opt_.criterion != RuptureCriterion::fracture_energy) return vmax;
+  // The pair's work (both directions) against its critical work; an inverted stencil (+∞)
+  // or a NaN work stays past the criterion.
+  const double* W = work_.data();
+  const double* Wc = work_c_.data();
+  const std::int64_t* rev = reverse_.data();
+  vmax = ninf;
+#pragma omp parallel for schedule(dynamic, 32) reduction(max : vmax)
+  for (std::size_t i = 0; i < N; ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+      if (B.broken(q) || dir[q] == std::numeric_limits<double>::infinity()) {
+        if (!B.broken(q)) vmax = dir[q];
+        continue;
+      }
+      dir[q] = (W[q] + W[rev[q]]) / Wc[q];
       vmax = std::isnan(dir[q]) ? std::numeric_limits<double>::infinity() : std::max(vmax, dir[q]);
     }
   return vmax;
@@ -125,7 +219,7 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
     for (auto q = fam.begin(i); q < fam.end(i); ++q)
       // NaN counts as broken (!(v <= critical)); break_bond returns false if already broken
       if (!body_->broken(q) && !(dir[q] <= opt_.critical))
-        pass.broken += body_->break_bond(static_cast<int>(i), fam.index[q]) ? 1 : 0;
+        pass.broken += break_pair(static_cast<int>(i), q) ? 1 : 0;
   // centres rebuilt over all rounds of this pass (for a local re-estimate of the stable step)
   std::vector<int> centres;
   if (pass.broken > 0) {
@@ -230,7 +324,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
   for (std::size_t ci = 0; ci < nc; ++ci) {
     const std::size_t i = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
     for (auto q = fam.begin(i); q < fam.end(i); ++q)
-      if (bad[q]) n += body_->break_bond(static_cast<int>(i), fam.index[q]) ? 1 : 0;
+      if (bad[q]) n += break_pair(static_cast<int>(i), q) ? 1 : 0;
   }
   // Weak-form rows evaluate P(F̄_k) on the point stencil {k} ∪ intact H_k: at a crack it
   // can invert too (measured in dynamic fracture: a thinned one-sided family folds). Its
@@ -259,6 +353,18 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
 
 std::size_t Rupture::commit(const Eigen::VectorXd& u) {
   const std::size_t n = body_->rebuild_broken(opt_.min_reciprocal_condition);
+  if (!work_.empty()) {
+    // An intact bond whose rebuilt stencil is ill-posed carries no stress any more (weight
+    // 0): the work stored in it is released for good and counted as dissipated.
+    const Csr& fam = body_->families();
+    const Stencils& S = body_->bond_stencils();
+    for (int c : body_->last_rebuilt_centres())
+      for (auto q = fam.begin(c); q < fam.end(c); ++q)
+        if (!body_->broken(q) && !(S.weight[q] > 0) && work_[q] != 0) {
+          dissipated_ += work_[q];
+          work_[q] = 0;
+        }
+  }
   if (n > 0 && opt_.anchor_detached) update_anchors(u);
   return n;
 }

@@ -6,7 +6,8 @@
 # on one thread: series/reactions CSV and XDMF byte for byte, every dataset of every
 # results_NNNN.h5 exactly equal (the files' command_line attributes differ by design).
 # Cases: quasi-static Newton (load steps, no rupture), quasi-static with rupture (broken bonds,
-# rebuilt stencils, anchors in the checkpoint), dynamic (inertia + viscous damping, prescribed
+# rebuilt stencils, anchors in the checkpoint; and with the fracture_energy rule, its bond
+# work), dynamic (inertia + viscous damping, prescribed
 # motion, initial velocity), ADR, dynamic fracture; and one run killed while a checkpoint is
 # being written (SIGSTOP when its temporary exists, then SIGKILL): the previous checkpoint is
 # used and the restart removes the dead run's temporaries.
@@ -152,6 +153,12 @@ rupture: {criterion: bond_stretch, critical: 1.15}
 output: {checkpoint_every: 1}
 Y
 run_case rupture rup.yaml reactions.csv 3
+# the energy-based rule: bonds break at steps 3 and 4, so a checkpoint after step 3 carries
+# work integrals of rebuilt (renormalised) stencils, restored with the broken pairs
+sed -e 's/steps: 3/steps: 4/' \
+    -e 's/criterion: bond_stretch, critical: 1.15/criterion: fracture_energy, surface_energy: 0.004/' \
+    rup.yaml > rupfe.yaml
+run_case rupture_fe rupfe.yaml reactions.csv 4
 # dynamic fracture (inertia + rupture): bonds break before and after the checkpoint; the
 # broken pairs, the switched-off point stencils and the (shrunk) time step are restored
 cat > dynrup.yaml <<'Y'

@@ -43,6 +43,7 @@
 /// \code{.yaml}
 ///   effects: [rupture]
 ///   rupture: {criterion: bond_stretch, critical: 2.5}   # | principal_stretch | energy_density
+///   rupture: {criterion: fracture_energy, G_c: 0.01}    # or surface_energy: γ (G_c = 2γ)
 ///   inertia: {integrator: velocity-verlet, time_step: auto, safety: 0.8, end_time: 10.0}
 ///   damping: {type: viscous, coefficient: 0.1}   # or {type: adaptive-dynamic-relaxation}
 ///   initial: {velocity: {x: "0.01*sin(pi*x)"}}  # expressions in x, y, z

@@ -6,7 +6,13 @@
 ///  - principal_stretch:  λ_max(F_ij) = √(largest eigenvalue of C_ij = F_ijᵀF_ij), of the full
 ///                        3×3 F of the material (plane stress: with the thickness stretch),
 ///                        the larger of the two directions (i, j) and (j, i);
-///  - energy_density:     Ψ(F_ij), the larger of the two directions.
+///  - energy_density:     Ψ(F_ij), the larger of the two directions;
+///  - fracture_energy:    the work done on the pair, W_ij = ∫ V_iφ̂_ijV_j P(F_ij):dF_ij +
+///                        (j, i), accumulated per bond over the run, against its critical
+///                        value W_c,ij = ψ_c (V_iφ̂⁰_ijV_j + V_jφ̂⁰_jiV_i) (φ̂⁰ of the intact
+///                        body), ψ_c = G_c / (β_d δ) so that a straight crack through a
+///                        homogeneous body dissipates G_c per unit area (docs/fracture.md §5,
+///                        theory.md §12). The criterion value is W_ij / W_c,ij (critical 1).
 /// Broken bonds leave every family that holds them and the affected PDDO stencils are
 /// rebuilt locally (Discretization::rebuild_broken). Quasi-static runs are staggered: after
 /// a converged load step, bonds past the criterion break, equilibrium is re-solved at the
@@ -28,14 +34,21 @@
 
 namespace pdcg::solver {
 
-enum class RuptureCriterion { bond_stretch, principal_stretch, energy_density };
+enum class RuptureCriterion { bond_stretch, principal_stretch, energy_density, fracture_energy };
 RuptureCriterion parse_rupture_criterion(const std::string& name);  // throws InputError
 std::string to_string(RuptureCriterion c);
 
+/// β_d = ⟨|ξ·n|⟩_φ̂ / δ: the mean projected bond length, over δ, of an interior BA family
+/// weighted by the continuum φ̂ (docs/fracture.md §5, closed forms):
+///   2D: 8 (128 + 20π − 81√3) / (45π (4π − 3√3)) = 0.388013,   3D: 61/175 = 0.348571.
+/// G_c = ψ_c β_d δ relates the critical energy density ψ_c of the fracture_energy rule to
+/// the energy release rate. Throws pdcg::Error for d ∉ {2, 3}.
+double fracture_energy_shape_factor(int dimension);
+
 struct RuptureOptions {
   RuptureCriterion criterion = RuptureCriterion::bond_stretch;
-  double critical = 2.5;
-  int max_passes = 200;  ///< staggered passes per load step before giving up
+  double critical = 2.5;  ///< fracture_energy: ignored (the value is W/W_c, breaks past 1)
+  int max_passes = 200;   ///< staggered passes per load step before giving up
   /// Adaptive dynamic relaxation fallback (when Newton fails at fixed load): relative
   /// residual at which it hands back to Newton, and its iteration limit.
   double relaxation_tolerance = 1e-4;
@@ -50,6 +63,9 @@ struct RuptureOptions {
   bool anchor_detached = true;
   /// Explicit dynamics: evaluate the criterion every check_every time steps (1 = each).
   int check_every = 1;
+  /// fracture_energy: the critical energy release rate G_c (energy per unit crack area;
+  /// energy per unit length in 2D), > 0.
+  double fracture_energy = 0.0;
 };
 
 struct RupturePass {
@@ -103,6 +119,21 @@ class Rupture {
                const std::vector<std::int64_t>& point_stencils_off = {});
   std::vector<double> damage() const { return body_->damage(); }
 
+  // ---- fracture_energy (empty / zero for the other criteria) -------------------
+  /// ψ_c = G_c / (β_d δ): the energy density at which a homogeneously loaded bond breaks.
+  double critical_energy_density() const { return psi_c_; }
+  /// Critical work W_c of every directed bond's pair (CSR order, both directions equal;
+  /// energy units: ψ_c (V_iφ̂⁰_ijV_j + V_jφ̂⁰_jiV_i)).
+  const std::vector<double>& critical_work() const { return work_c_; }
+  /// Work done on each directed bond's stencil so far, Σ V_iφ̂_ijV_j ΔΨ(F_ij) (energy).
+  const std::vector<double>& bond_work() const { return work_; }
+  /// Energy dissipated so far: Σ over broken pairs of the work stored in them when they
+  /// broke (W_ij, both directions).
+  double dissipated_energy() const { return dissipated_; }
+  /// Checkpoint state of the work integrals: work, the last Ψ per directed bond, dissipated.
+  const std::vector<double>& bond_work_last_psi() const { return psi_last_; }
+  void restore_work(std::vector<double> work, std::vector<double> last_psi, double dissipated);
+
  private:
   void update_anchors(const Eigen::VectorXd& u);
   /// Breaks every intact bond whose (rebuilt) BA stencil gives an inadmissible F (J ≤ 0)
@@ -114,12 +145,21 @@ class Rupture {
                              const std::vector<int>* centres = nullptr);
   /// Directed criterion values into dir_ (−∞ for broken bonds); returns their maximum.
   double evaluate_directed(const Eigen::VectorXd& u) const;
+  /// Marks (i, j) broken; with fracture_energy adds the pair's stored work to dissipated_.
+  bool break_pair(int i, std::int64_t q);
   Discretization* body_;
   mutable std::vector<double> dir_;  // scratch: criterion per directed bond
   std::vector<int> all_rebuilt_;
   Model* model_;
   RuptureOptions opt_;
   double anchor_stiffness_ = 0.0;
+  // fracture_energy: per directed bond (CSR order), allocated by the constructor only for it
+  double psi_c_ = 0.0;
+  std::vector<std::int64_t> reverse_;  // CSR position of (j, i)
+  std::vector<double> work_c_;         // critical pair work
+  mutable std::vector<double> work_;   // accumulated work (energy)
+  mutable std::vector<double> psi_last_;
+  double dissipated_ = 0.0;
 };
 
 }  // namespace pdcg::solver

@@ -79,6 +79,59 @@ TEST(Effects, BadInputIsReported) {
   EXPECT_TRUE(has(e, "bond-associated")) << e;
 }
 
+// The energy-based rule (docs/fracture.md §5): G_c or surface_energy (G_c = 2γ), its errors,
+// the resolved scene, and the dissipated-energy column of a run.
+TEST(Effects, FractureEnergyCriterion) {
+  auto e = error_of("effects: [rupture]\nrupture: {criterion: fracture_energy}\n");
+  EXPECT_TRUE(has(e, "rupture.G_c") && has(e, "missing") && has(e, "surface_energy")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: fracture_energy, critical: 2}\n");
+  EXPECT_TRUE(has(e, "calibrated from the energy release rate") && has(e, "G_c")) << e;
+  e = error_of(
+      "effects: [rupture]\nrupture: {criterion: fracture_energy, G_c: 1, surface_energy: 0.5}\n");
+  EXPECT_TRUE(has(e, "both G_c and surface_energy")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: fracture_energy, G_c: -1}\n");
+  EXPECT_TRUE(has(e, "rupture.G_c: out of range") && has(e, "G_c > 0")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: fracture_energy, surface_energy: 0}\n");
+  EXPECT_TRUE(has(e, "rupture.surface_energy: out of range")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: bond_stretch, critical: 2, G_c: 1}\n");
+  EXPECT_TRUE(has(e, "fracture_energy criterion only")) << e;
+  e = error_of("effects: [rupture]\nrupture: {criterion: fracture, G_c: 1}\n");
+  EXPECT_TRUE(has(e, "energy_density, fracture_energy")) << e;
+
+  const auto s = scene::load_scene(write(
+      "fe.yaml", std::string(kBase) +
+                     "effects: [rupture]\nrupture: {criterion: fracture_energy, surface_energy: "
+                     "0.006}\n"));
+  EXPECT_EQ(s.rupture_options.criterion, solver::RuptureCriterion::fracture_energy);
+  EXPECT_EQ(s.rupture_options.fracture_energy, 0.012);  // G_c = 2γ
+  const auto s2 = scene::load_scene(write("fe2.yaml", scene::resolved_yaml(s)));
+  EXPECT_EQ(s2.rupture_options.criterion, solver::RuptureCriterion::fracture_energy);
+  EXPECT_EQ(s2.rupture_options.fracture_energy, 0.012);
+
+  // a run: the pre-cracked sheet pulled to 15 % breaks bonds; reactions.csv carries the
+  // dissipated energy, which never decreases and is positive once bonds broke
+  const fs::path out = fs::temp_directory_path() / "pdcg_effects_test" / "fracture_energy";
+  fs::remove_all(out);
+  scene::run_scene(s, out);
+  std::ifstream csv(out / "reactions.csv");
+  std::string line, header;
+  while (std::getline(csv, line) && line.rfind("#", 0) == 0) {
+  }
+  header = line;
+  EXPECT_TRUE(has(header, ",broken_bonds,dissipated_energy")) << header;
+  double last = 0, broken = 0;
+  while (std::getline(csv, line)) {
+    const auto c2 = line.rfind(',');
+    const auto c1 = line.rfind(',', c2 - 1);
+    const double d = std::stod(line.substr(c2 + 1));
+    broken = std::stod(line.substr(c1 + 1, c2 - c1 - 1));
+    EXPECT_GE(d, last);
+    last = d;
+  }
+  EXPECT_GT(broken, 0);
+  EXPECT_GT(last, 0);
+}
+
 TEST(Effects, ResolvedSceneKeepsTheEffects) {
   const auto s = scene::load_scene(
       write("r.yaml", std::string(kBase) +

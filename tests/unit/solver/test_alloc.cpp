@@ -172,10 +172,11 @@ TEST(Allocation, RuptureCheckWithoutBreaksAllocatesNothing) {
   const auto mat = make_neo_hookean({1.0, 100.0}, Kinematics::plane_stress);
   Model M(D, *mat, {});
   for (auto crit : {RuptureCriterion::bond_stretch, RuptureCriterion::principal_stretch,
-                    RuptureCriterion::energy_density}) {
+                    RuptureCriterion::energy_density, RuptureCriterion::fracture_energy}) {
     RuptureOptions ro;
     ro.criterion = crit;
     ro.critical = crit == RuptureCriterion::energy_density ? 10.0 : 3.0;  // never reached
+    ro.fracture_energy = 100.0;  // fracture_energy: ψ_c ≫ Ψ at 5 % strain, never reached
     ro.anchor_detached = false;
     Rupture R(D, M, ro);
     Eigen::VectorXd u(M.dofs());
