@@ -25,6 +25,7 @@ struct Options {
   std::optional<double> temperature;
   double dt = 0.0;
   bool force_unstable = false;
+  std::string kernels = "auto";
 };
 
 int run(const Options& o) {
@@ -62,7 +63,10 @@ int run(const Options& o) {
   std::fprintf(stderr, "md: %zu points, %s body, dt = %g (stable limit %.6g, ω_bound %.6g)\n", b.size(),
                std::string(body::to_string(b.kind)).c_str(), o.dt, limit.dt_stable, limit.omega_bound);
 
-  dynamics::VelocityVerlet vv(b, b.x, std::move(v), o.dt);
+  if (o.kernels != "auto" && o.kernels != "general")
+    throw InputError("bad force kernel choice").key("--kernels").value(o.kernels).expected("auto or general");
+  dynamics::VelocityVerlet vv(b, b.x, std::move(v), o.dt,
+                              o.kernels == "general" ? dynamics::Kernels::general : dynamics::Kernels::automatic);
   std::optional<dynamics::DumpWriter> dump;
   std::optional<io::AtomicTextFile> thermo;
   auto write_thermo = [&] {
@@ -117,6 +121,9 @@ pdcg::cli::Registration reg(150, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("--thermo", o->thermo, "CSV step,time,kinetic,potential,total,temperature");
   sub->add_option("--thermo-every", o->thermo_every, "Thermo every K steps (default 1)");
   sub->add_flag("--force-unstable", o->force_unstable, "Run even when dt exceeds the stable limit");
+  sub->add_option("--kernels", o->kernels,
+                  "Force evaluation: auto (the dedicated pair, EAM or many-body kernel where one exists) or "
+                  "general (the body's general evaluator; for checks and benchmarks)");
   sub->footer(
       "Initial velocities are zero unless --temperature or --velocities is given.\n"
       "Example:\n  pdcg md body.h5 --steps 1000 --dt 0.005 --temperature 0.1 --dump run.dump --every 10 "
