@@ -1,5 +1,6 @@
 /// `pdcg md BODY.h5 --steps N --dt DT [--temperature T --seed S | --velocities DUMP]
-///   [--dump FILE --every K] [--thermo CSV] [--force-unstable]`: explicit dynamics of a body's
+///   [--dump FILE --every K] [--thermo CSV] [--force-unstable] [--kernels auto|general]`:
+///   explicit dynamics of a body's
 /// points (fixed-family MD for a delta body; the coarse surrogate for a rescaled one), velocity
 /// Verlet in the order of LAMMPS fix nve (docs/dynamics.md). Starts at the body's reference
 /// positions. Refuses dt above the Gershgorin stable limit 2/ω_bound unless --force-unstable.
@@ -41,6 +42,8 @@ int run(const Options& o) {
   if (o.dump.empty() && o.every != 0) throw InputError("--every needs --dump FILE").key("--every");
   if (o.thermo_every < 1)
     throw InputError("bad thermo interval").key("--thermo-every").value(std::to_string(o.thermo_every)).expected(">= 1");
+  if (o.kernels != "auto" && o.kernels != "general")
+    throw InputError("bad force kernel choice").key("--kernels").value(o.kernels).expected("auto or general");
   // before any computation
   if (!o.dump.empty()) io::require_writable_output(o.dump, "--dump");
   if (!o.thermo.empty()) io::require_writable_output(o.thermo, "--thermo");
@@ -63,8 +66,6 @@ int run(const Options& o) {
   std::fprintf(stderr, "md: %zu points, %s body, dt = %g (stable limit %.6g, ω_bound %.6g)\n", b.size(),
                std::string(body::to_string(b.kind)).c_str(), o.dt, limit.dt_stable, limit.omega_bound);
 
-  if (o.kernels != "auto" && o.kernels != "general")
-    throw InputError("bad force kernel choice").key("--kernels").value(o.kernels).expected("auto or general");
   dynamics::VelocityVerlet vv(b, b.x, std::move(v), o.dt,
                               o.kernels == "general" ? dynamics::Kernels::general : dynamics::Kernels::automatic);
   std::optional<dynamics::DumpWriter> dump;

@@ -1,6 +1,7 @@
 // Fixed-family dynamics of delta bodies against LAMMPS `fix nve` on the same atoms, velocities
 // and time step (embedded LAMMPS, the independent reference): FCC LJ (lj/cut 2.5) and FCC Cu
-// (eam, Cu_u3), perturbed, 100 steps. Energy conservation of a small crystal over 10⁴ steps.
+// (eam, Cu_u3), diamond Si (sw, tersoff: the many-body kernel), perturbed, 100 steps. Energy
+// conservation of a small crystal over 10⁴ steps; NVE drift of sw/tersoff against LAMMPS's own.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -247,9 +248,8 @@ TEST(DynamicsVsLammps, DiamondSiManyBodyEnergyDriftAsLammps) {
                 s->potential.c_str(), pd, lmp);
     // the same integrator and forces (1e-10): the fluctuation of E is the Verlet error of the
     // trajectory, equal while the two runs stay together and of the same size once round-off
-    // has separated them (factor 2); both well below 1e-6 of E at this dt
-    EXPECT_LT(pd, 2.0 * lmp + 1e-12);
-    EXPECT_LT(pd, 1e-6);
+    // has separated them (factor 2; measured: equal to 4 digits, 2.5e-6 sw, 2.1e-6 tersoff)
+    EXPECT_LT(pd, 2.0 * lmp);
     EXPECT_GT(lmp, 0.0);
   }
 #else
