@@ -1,7 +1,7 @@
 /// `pdcg md BODY.h5 --steps N --dt DT [--temperature T --seed S | --velocities DUMP]
 ///   [--dump FILE --every K] [--thermo CSV] [--force-unstable] [--kernels auto|general]`:
-///   explicit dynamics of a body's
-/// points (fixed-family MD for a delta body; the coarse surrogate for a rescaled one), velocity
+/// explicit dynamics of a body's points (fixed-family MD for a delta body; the coarse
+/// surrogate for a rescaled one), velocity
 /// Verlet in the order of LAMMPS fix nve (docs/dynamics.md). Starts at the body's reference
 /// positions. Refuses dt above the Gershgorin stable limit 2/ω_bound unless --force-unstable.
 #include <fmt/format.h>

@@ -108,6 +108,11 @@ class VelocityVerlet {
   /// True when the force evaluation runs the vector EAM kernel (Kernels::automatic, native EAM
   /// without special factors, AVX2 + FMA CPU).
   bool vector_eam() const { return eam_rows_ != nullptr; }
+  /// True when forces come from the many-body kernel (native sw, tersoff; not handed over to
+  /// the general path).
+  bool manybody_kernel() const { return manybody_ && !mb_fallback_; }
+  /// Number of short-list builds of the many-body kernel so far (0: not used).
+  std::int64_t short_list_builds() const { return mb_builds_; }
 
  private:
   void evaluate(bool energy = true);
@@ -164,13 +169,6 @@ class VelocityVerlet {
   double mb_displacement_ = 0.0;  ///< largest distance of a point from its reference at the build
   std::int64_t mb_builds_ = 0;
 
- public:
-  /// Number of short-list builds of the many-body kernel so far (0: not used).
-  std::int64_t short_list_builds() const { return mb_builds_; }
-  /// True when forces come from the many-body kernel (not fallen back to the general path).
-  bool manybody_kernel() const { return manybody_ && !mb_fallback_; }
-
- private:
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;
