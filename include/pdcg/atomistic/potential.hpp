@@ -159,12 +159,14 @@ class Potential {
   /// Forces and energy of the LAMMPS form of a many-body style for the points k0 ≤ k < k1 as
   /// centres (PairSW / PairTersoff::compute: each pair term once, by its owner; each triplet
   /// once, at its centre, forces to all three atoms), added into f (3 per point and ghost);
-  /// returns the energy of those terms. Summed over all centres this is U = Σ_k ψ_k and
-  /// f = −∂U/∂y of force_state's PD form whenever every triplet's two ends are family
-  /// partners (always, unless atoms moved by more than the families' skin); otherwise, or when
-  /// a point has more than 512 partners within the cutoff, `applicable` is set to false and
-  /// the caller must use the general path. Allocates nothing; thread-safe for disjoint f.
-  /// Only valid when has_manybody_kernel() (std::logic_error otherwise).
+  /// returns the energy of those terms. A term's share in the ψ of an atom whose family lacks
+  /// one of its atoms is left out, as force_state does (ShortLists::reference), so that summed
+  /// over all centres this is U = Σ_k ψ_k and f = −∂U/∂y of the fixed families, provided
+  /// every atom within short_cutoff() of a centre is in its family and in its list (the
+  /// caller's lists and skin guarantee it). A point with more than 512 partners within the
+  /// cutoff sets `applicable` to false (the caller then uses the general path). Allocates
+  /// nothing; thread-safe for disjoint f. Only valid when has_manybody_kernel()
+  /// (std::logic_error otherwise).
   virtual double manybody_forces(const ShortLists& lists, std::int64_t k0, std::int64_t k1,
                                  const double* y, double* f, bool& applicable) const;
 
