@@ -40,4 +40,9 @@ double Potential::half_pair_forces(const HalfFamilies&, std::int64_t, std::int64
   throw std::logic_error("half_pair_forces: no pair kernel for " + style());
 }
 
+double Potential::manybody_forces(const ShortLists&, std::int64_t, std::int64_t, const double*,
+                                  double*, bool&) const {
+  throw std::logic_error("manybody_forces: no many-body kernel for " + style());
+}
+
 }  // namespace pdcg::atomistic

@@ -172,6 +172,153 @@ class StillingerWeber final : public Potential {
   double force_state(const FamilyState& f, double* t) const override {
     return evaluate<false>(f, t, nullptr);
   }
+  bool has_manybody_kernel() const override { return true; }
+  double short_cutoff() const override { return cutmax_; }
+
+  /// PairSW::compute over short lists: φ2 of each owned pair once (½ with each end's entry,
+  /// as force_state), φ3(i; j, l) of each triplet j < l once at its centre i, with the
+  /// forces −∇φ3 on j and l and their negative sum on i (Newton's third law); a triplet whose
+  /// ends are not family partners counts ⅓ (ψ_i's share only, as the fixed-family ψ).
+  double manybody_forces(const ShortLists& s, std::int64_t k0, std::int64_t k1, const double* y,
+                         double* f, bool& applicable) const override {
+    std::int32_t sj[kMaxNear];
+    double sd[3 * kMaxNear], srsq[kMaxNear], sr[kMaxNear];
+    double tu[3 * kMaxNear], tir[kMaxNear], tex[kMaxNear], tm[kMaxNear];
+    const int* type = s.type;
+    const double* xr = s.reference;
+    double energy = 0.0;
+    for (std::int64_t i = k0; i < k1; ++i) {
+      const int ti = type[i];
+      const double xi = y[3 * i], yi = y[3 * i + 1], zi = y[3 * i + 2];
+      const std::int32_t* nb = s.neighbor + s.offset[i];
+      const std::int32_t cnt = s.count[i], own = s.owned[i];
+      double fi[3] = {0.0, 0.0, 0.0};
+      std::int64_t ns = 0;
+      for (std::int32_t q = 0; q < cnt; ++q) {
+        const std::int32_t j = nb[q];
+        const double dx = y[3 * j] - xi, dy = y[3 * j + 1] - yi, dz = y[3 * j + 2] - zi;
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq >= cutmaxsq_) continue;
+        if (q < own) {
+          const int tj = type[j];
+          const int pij = pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tj)];
+          const int pji = pidx_[static_cast<std::size_t>((tj * n1_ + ti) * n1_ + ti)];
+          double fpair = 0.0;  // −φ2'/r of the pair (Σ of the two halves)
+          if (symmetric2_ || pij == pji) {
+            const Param& p = params_[static_cast<std::size_t>(pij)];
+            if (rsq < p.cutsq) {
+              double eng;
+              twobody(p, rsq, fpair, eng);
+              energy += eng;
+            }
+          } else {
+            for (const int pk : {pij, pji}) {
+              const Param& p = params_[static_cast<std::size_t>(pk)];
+              if (rsq < p.cutsq) {
+                double ff, eng;
+                twobody(p, rsq, ff, eng);
+                fpair += 0.5 * ff;
+                energy += 0.5 * eng;
+              }
+            }
+          }
+          // fpair = −φ2'/r, Y = y_j − y_i: f_i = −fpair Y, f_j = +fpair Y
+          fi[0] -= fpair * dx;
+          fi[1] -= fpair * dy;
+          fi[2] -= fpair * dz;
+          f[3 * j] += fpair * dx;
+          f[3 * j + 1] += fpair * dy;
+          f[3 * j + 2] += fpair * dz;
+        }
+        if (!threebody_) continue;
+        if (ns == kMaxNear) {
+          applicable = false;
+          return energy;
+        }
+        sj[ns] = j;
+        sd[3 * ns] = dx;
+        sd[3 * ns + 1] = dy;
+        sd[3 * ns + 2] = dz;
+        srsq[ns] = rsq;
+        sr[ns++] = std::sqrt(rsq);
+      }
+      // per partner within its (i, j, j) cutoff: unit vector, 1/r, and the radial factor of
+      // φ3, exp(γσ/(r − aσ)) with its log-derivative (PairSW::threebody evaluates these per
+      // triplet; they depend on the pair only)
+      std::int64_t nt = 0;
+      for (std::int64_t a = 0; a < ns; ++a) {
+        const int tj = type[sj[a]];
+        const Param& pij = P(ti, tj, tj);
+        if (srsq[a] >= pij.cutsq) continue;
+        const double ir = 1.0 / sr[a];
+        const double rainv = 1.0 / (sr[a] - pij.cut);
+        const double gsrainv = pij.sigma_gamma * rainv;
+        sj[nt] = sj[a];
+        tu[3 * nt] = sd[3 * a] * ir;
+        tu[3 * nt + 1] = sd[3 * a + 1] * ir;
+        tu[3 * nt + 2] = sd[3 * a + 2] * ir;
+        tir[nt] = ir;
+        tex[nt] = std::exp(gsrainv);
+        tm[nt++] = -gsrainv * rainv;
+      }
+      for (std::int64_t a = 0; a + 1 < nt; ++a) {
+        const std::int32_t j = sj[a];
+        const int tj = type[j];
+        const double xj = xr[3 * j], yj = xr[3 * j + 1], zj = xr[3 * j + 2];
+        const double* ua = tu + 3 * a;
+        double fj[3] = {0.0, 0.0, 0.0};
+        for (std::int64_t b = a + 1; b < nt; ++b) {
+          const std::int32_t l = sj[b];
+          const int tl = type[l];
+          // fixed families: ψ_j and ψ_l hold their thirds of φ3(i; j, l) only if j and l are
+          // family partners (ψ_i always: both are in i's family)
+          const double ex = xr[3 * l] - xj, ey = xr[3 * l + 1] - yj, ez = xr[3 * l + 2] - zj;
+          const double w = ex * ex + ey * ey + ez * ez < s.family_cutsq ? 1.0 : 1.0 / 3.0;
+          const double* ub = tu + 3 * b;
+          const double c = ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2];
+          const double facexp = tex[a] * tex[b];
+          // φ3 = λε (c − c0)² facexp, its partials in r1, r2 (φ3 m) and c; for a file whose
+          // (i, j, l) and (i, l, j) differ, the mean over both orders (see check_symmetry)
+          double e3, dc;
+          {
+            const Param& p = P(ti, tj, tl);
+            const double delcs = c - p.costheta;
+            e3 = p.lambda_epsilon * facexp * delcs * delcs;
+            dc = p.lambda_epsilon2 * facexp * delcs;
+          }
+          if (!symmetric3_) {
+            const Param& p = P(ti, tl, tj);
+            const double delcs = c - p.costheta;
+            e3 = 0.5 * (e3 + p.lambda_epsilon * facexp * delcs * delcs);
+            dc = 0.5 * (dc + p.lambda_epsilon2 * facexp * delcs);
+          }
+          e3 *= w;
+          dc *= w;
+          energy += e3;
+          const double f1 = e3 * tm[a], f2 = e3 * tm[b];
+          // ∇_u φ3 = f1 û + dc (v̂ − c û)/r1, ∇_v φ3 = f2 v̂ + dc (û − c v̂)/r2
+          const double ca = dc * tir[a], cb = dc * tir[b];
+          double* fl = f + 3 * l;
+          for (int k = 0; k < 3; ++k) {
+            const double gu = f1 * ua[k] + ca * (ub[k] - c * ua[k]);
+            const double gv = f2 * ub[k] + cb * (ua[k] - c * ub[k]);
+            fj[k] -= gu;
+            fl[k] -= gv;
+            fi[k] += gu + gv;
+          }
+        }
+        double* fjp = f + 3 * j;
+        fjp[0] += fj[0];
+        fjp[1] += fj[1];
+        fjp[2] += fj[2];
+      }
+      f[3 * i] += fi[0];
+      f[3 * i + 1] += fi[1];
+      f[3 * i + 2] += fi[2];
+    }
+    return energy;
+  }
+
   /// Analytic: the blocks of ½φ2 (j = m), and for every triplet the 2×2 blocks of its two
   /// local vectors, mapped to the bonds they combine.
   void force_state_tangent(const FamilyState& f, double* K, double* work) const override {
@@ -238,6 +385,7 @@ class StillingerWeber final : public Potential {
           }
         }
       }
+    if (worst2 > 0.0) symmetric2_ = false;
     if (worst2 > 0.0)
       log::warn(
           "{}:{}: two-body parameters of '{}' and '{}' differ (relative {:.2g}): LAMMPS "
@@ -407,6 +555,7 @@ class StillingerWeber final : public Potential {
   int ntypes_, n1_;
   bool threebody_ = true;
   bool symmetric3_ = true;  ///< entries (i, j, k) and (i, k, j) agree in their three-body part
+  bool symmetric2_ = true;  ///< entries (i, j, j) and (j, i, i) agree in their two-body part
   std::vector<Param> params_;
   std::vector<int> pidx_;
   double cutmax_ = 0.0, cutmaxsq_ = 0.0;

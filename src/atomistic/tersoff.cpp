@@ -67,16 +67,18 @@ inline double ters_fc(double r, const Param& p) {
 }
 
 /// V_R = f_C A e^{−λ1 r} (PairTersoff::repulsive) and its derivatives.
+template <bool kSecond = true>
 inline double repulsive(const Param& p, double r, double& d1, double& d2) {
   double fc, fc1, fc2;
   fc3(r, p, fc, fc1, fc2);
   const double e = std::exp(-p.lam1 * r);
   d1 = p.biga * e * (fc1 - fc * p.lam1);
-  d2 = p.biga * e * (fc2 - 2.0 * p.lam1 * fc1 + p.lam1 * p.lam1 * fc);
+  if constexpr (kSecond) d2 = p.biga * e * (fc2 - 2.0 * p.lam1 * fc1 + p.lam1 * p.lam1 * fc);
   return fc * p.biga * e;
 }
 
 /// f_A = −B e^{−λ2 r} f_C (ters_fa, ters_fa_d) and its derivatives.
+template <bool kSecond = true>
 inline double attractive_fa(const Param& p, double r, double& d1, double& d2) {
   if (r > p.bigr + p.bigd) {
     d1 = d2 = 0.0;
@@ -86,25 +88,27 @@ inline double attractive_fa(const Param& p, double r, double& d1, double& d2) {
   fc3(r, p, fc, fc1, fc2);
   const double e = std::exp(-p.lam2 * r);
   d1 = p.bigb * e * (p.lam2 * fc - fc1);
-  d2 = p.bigb * e * (-p.lam2 * p.lam2 * fc + 2.0 * p.lam2 * fc1 - fc2);
+  if constexpr (kSecond) d2 = p.bigb * e * (-p.lam2 * p.lam2 * fc + 2.0 * p.lam2 * fc1 - fc2);
   return -p.bigb * e * fc;
 }
 
 /// b(ζ) (ters_bij, with LAMMPS's asymptotic branches) and its derivatives (ters_bij_d and
 /// the derivative of each branch).
+template <bool kSecond = true>
 inline double bij(double zeta, const Param& p, double& d1, double& d2) {
   const double tmp = p.beta * zeta;
   const double n = p.powern, bb = p.beta * p.beta;
   if (tmp > p.c1) {
     d1 = p.beta * -0.5 * std::pow(tmp, -1.5);
-    d2 = bb * 0.75 * std::pow(tmp, -2.5);
+    if constexpr (kSecond) d2 = bb * 0.75 * std::pow(tmp, -2.5);
     return 1.0 / std::sqrt(tmp);
   }
   if (tmp > p.c2) {
     d1 =
         p.beta * (-0.5 * std::pow(tmp, -1.5) * (1.0 - (1.0 + 1.0 / (2.0 * n)) * std::pow(tmp, -n)));
-    d2 = bb *
-         (0.75 * std::pow(tmp, -2.5) - (n + 0.5) * (n + 1.5) / (2.0 * n) * std::pow(tmp, -n - 2.5));
+    if constexpr (kSecond)
+      d2 = bb * (0.75 * std::pow(tmp, -2.5) -
+                 (n + 0.5) * (n + 1.5) / (2.0 * n) * std::pow(tmp, -n - 2.5));
     return (1.0 - std::pow(tmp, -n) / (2.0 * n)) / std::sqrt(tmp);
   }
   if (tmp < p.c4) {
@@ -113,14 +117,15 @@ inline double bij(double zeta, const Param& p, double& d1, double& d2) {
   }
   if (tmp < p.c3) {
     d1 = -0.5 * p.beta * std::pow(tmp, n - 1.0);
-    d2 = -0.5 * bb * (n - 1.0) * std::pow(tmp, n - 2.0);
+    if constexpr (kSecond) d2 = -0.5 * bb * (n - 1.0) * std::pow(tmp, n - 2.0);
     return 1.0 - std::pow(tmp, n) / (2.0 * n);
   }
   const double tmp_n = std::pow(tmp, n);
   const double P = 1.0 + tmp_n;
   const double Pm = std::pow(P, -1.0 - 1.0 / (2.0 * n));
   d1 = -0.5 * Pm * tmp_n / zeta;
-  d2 = -0.5 * bb * Pm * std::pow(tmp, n - 2.0) * ((n - 1.0) - (n + 0.5) * tmp_n / P);
+  if constexpr (kSecond)
+    d2 = -0.5 * bb * Pm * std::pow(tmp, n - 2.0) * ((n - 1.0) - (n + 0.5) * tmp_n / P);
   return std::pow(P, -1.0 / (2.0 * n));
 }
 
@@ -259,6 +264,7 @@ class Tersoff final : public Potential {
           wj = j;
         }
       }
+    symmetric_repulsive_ = worst == 0.0;
     if (worst > 0.0)
       log::warn(
           "{}:{}: repulsive parameters (A, lambda1, R, D) of '{}' and '{}' differ "
@@ -289,6 +295,158 @@ class Tersoff final : public Potential {
   double force_state(const FamilyState& f, double* t) const override {
     return evaluate<false>(f, t, nullptr, nullptr);
   }
+  bool has_manybody_kernel() const override { return true; }
+  /// Unshifted distance below which r + δ is within the largest cutoff.
+  double short_cutoff() const override { return std::max(cutmax_ - shift_, 0.0); }
+
+  /// PairTersoff::compute over short lists: V_R of each owned pair once (½ with each end's
+  /// entry, as force_state); for each centre i and partner j the bond order ζ_ij (one pass
+  /// over the partners l, keeping ∇ζ's terms), then ½ b(ζ_ij) f_A(r̃_ij) and its forces on i,
+  /// j and every l (LAMMPS recomputes ζ's terms in a second pass; here they are kept). With
+  /// fixed families, ψ_j's quarter uses ζ over the l that are j's family partners.
+  double manybody_forces(const ShortLists& s, std::int64_t k0, std::int64_t k1, const double* y,
+                         double* f, bool& applicable) const override {
+    std::int32_t sj[kMaxNear], lst[kMaxNear];
+    bool lpart[kMaxNear];
+    double sd[3 * kMaxNear], su[3 * kMaxNear], sr[kMaxNear], sir[kMaxNear], srt[kMaxNear],
+        gvs[3 * kMaxNear];
+    const int* type = s.type;
+    const double* xr = s.reference;
+    double energy = 0.0;
+    Partials1 d1;
+    Partials2 d2;
+    for (std::int64_t i = k0; i < k1; ++i) {
+      const int ti = type[i];
+      const double xi = y[3 * i], yi = y[3 * i + 1], zi = y[3 * i + 2];
+      const std::int32_t* nb = s.neighbor + s.offset[i];
+      const std::int32_t cnt = s.count[i], own = s.owned[i];
+      double fi[3] = {0.0, 0.0, 0.0};
+      std::int64_t ns = 0;
+      for (std::int32_t q = 0; q < cnt; ++q) {
+        const std::int32_t j = nb[q];
+        const double dx = y[3 * j] - xi, dy = y[3 * j + 1] - yi, dz = y[3 * j + 2] - zi;
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq >= reachsq_) continue;
+        const double r = std::sqrt(rsq), rt = r + shift_;
+        if (rt * rt >= cutmaxsq_) continue;
+        if (q < own) {  // repulsive V_R(r̃), ½ with the entry of each end
+          const int tj = type[j];
+          const int pij = pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tj)];
+          const int pji = pidx_[static_cast<std::size_t>((tj * n1_ + ti) * n1_ + ti)];
+          const bool once = pij == pji || symmetric_repulsive_;
+          double dv = 0.0;  // dV_R/dr̃ of the pair
+          for (const int pk : {pij, pji}) {
+            const Param& p = params_[static_cast<std::size_t>(pk)];
+            const double w = once ? 1.0 : 0.5;
+            if (rt * rt < p.cutsq) {
+              double v1, v2;
+              energy += w * repulsive<false>(p, rt, v1, v2);
+              dv += w * v1;
+            }
+            if (once) break;
+          }
+          const double fpair = dv / r;  // Y = y_j − y_i: f_j = −fpair Y, f_i = +fpair Y
+          fi[0] += fpair * dx;
+          fi[1] += fpair * dy;
+          fi[2] += fpair * dz;
+          f[3 * j] -= fpair * dx;
+          f[3 * j + 1] -= fpair * dy;
+          f[3 * j + 2] -= fpair * dz;
+        }
+        if (ns == kMaxNear) {
+          applicable = false;
+          return energy;
+        }
+        sj[ns] = j;
+        sd[3 * ns] = dx;
+        sd[3 * ns + 1] = dy;
+        sd[3 * ns + 2] = dz;
+        sr[ns] = r;
+        const double ir = 1.0 / r;
+        sir[ns] = ir;
+        su[3 * ns] = dx * ir;
+        su[3 * ns + 1] = dy * ir;
+        su[3 * ns + 2] = dz * ir;
+        srt[ns++] = rt;
+      }
+      for (std::int64_t a = 0; a < ns; ++a) {
+        const std::int32_t j = sj[a];
+        const int tj = type[j];
+        const Param& pij = P(ti, tj, tj);
+        const double rt1 = srt[a], r1 = sr[a];
+        if (rt1 * rt1 >= pij.cutsq) continue;
+        const double* u = sd + 3 * a;
+        const double* uh = su + 3 * a;
+        const double xj = xr[3 * j], yj = xr[3 * j + 1], zj = xr[3 * j + 2];
+        // ζ_ij and its gradient terms; ζp, gzp: the same over the l that are j's family
+        // partners (ψ_j's view of b_ij, fixed families; = ζ unless atoms moved by more than
+        // the families' skin)
+        double zeta = 0.0, gzu[3] = {0.0, 0.0, 0.0};
+        double zp = 0.0, gzp[3] = {0.0, 0.0, 0.0};
+        std::int64_t nl = 0, np = 0;
+        for (std::int64_t b = 0; b < ns; ++b) {
+          if (b == a) continue;
+          const std::int32_t l = sj[b];
+          const Param& pijl = P(ti, tj, type[l]);
+          if (srt[b] * srt[b] >= pijl.cutsq) continue;
+          const double ex = xr[3 * l] - xj, ey = xr[3 * l + 1] - yj, ez = xr[3 * l + 2] - zj;
+          const bool partner = ex * ex + ey * ey + ez * ez < s.family_cutsq;
+          const double* vh = su + 3 * b;
+          const double c = uh[0] * vh[0] + uh[1] * vh[1] + uh[2] * vh[2];
+          const double z = zeta_term<false>(pijl, rt1, srt[b], c, d1, d2);
+          zeta += z;
+          // ∇_u z = f1 û + fc (v̂ − c û)/r1, ∇_v z = f2 v̂ + fc (û − c v̂)/r2 (Angle)
+          const double ca = d1.fc * sir[a], cb = d1.fc * sir[b];
+          double* gv = gvs + 3 * nl;
+          double gu[3];
+          for (int k = 0; k < 3; ++k) {
+            gu[k] = d1.f1 * uh[k] + ca * (vh[k] - c * uh[k]);
+            gzu[k] += gu[k];
+            gv[k] = d1.f2 * vh[k] + cb * (uh[k] - c * vh[k]);
+          }
+          if (partner) {
+            zp += z;
+            for (int k = 0; k < 3; ++k) gzp[k] += gu[k];
+            ++np;
+          }
+          lpart[nl] = partner;
+          lst[nl++] = l;
+        }
+        double b1, b2, fa1, fa2;
+        const double bz = bij<false>(zeta, pij, b1, b2);
+        const double fa = attractive_fa<false>(pij, rt1, fa1, fa2);
+        double bp = bz, bp1 = b1;  // ψ_j's view
+        if (np != nl) bp = bij<false>(zp, pij, bp1, b2);
+        // E = ¼ b(ζ) f_A + ¼ b(ζp) f_A (ψ_i's and ψ_j's quarters; ½ b f_A when ζp = ζ)
+        energy += 0.25 * (bz + bp) * fa;
+        const double sz = 0.25 * b1 * fa, szp = 0.25 * bp1 * fa;  // ∂E/∂ζ, ∂E/∂ζp
+        const double sr1 = 0.25 * (bz + bp) * fa1 / r1;           // ∂E/∂r̃ along Y/r
+        // ∂E/∂u = sr1 u + sz Σ ∇_u z + szp Σ_partners ∇_u z; ∂E/∂v_l = (sz [+ szp]) ∇_v z_l;
+        // f_j = −∂E/∂u, f_l = −∂E/∂v_l
+        double gU[3];
+        for (int c = 0; c < 3; ++c) gU[c] = sr1 * u[c] + sz * gzu[c] + szp * gzp[c];
+        for (std::int64_t m = 0; m < nl; ++m) {
+          double* fl = f + 3 * lst[m];
+          const double* gv = gvs + 3 * m;
+          const double sl = lpart[m] ? sz + szp : sz;
+          for (int c = 0; c < 3; ++c) {
+            fl[c] -= sl * gv[c];
+            fi[c] += sl * gv[c];
+          }
+        }
+        double* fj = f + 3 * j;
+        for (int c = 0; c < 3; ++c) {
+          fj[c] -= gU[c];
+          fi[c] += gU[c];
+        }
+      }
+      f[3 * i] += fi[0];
+      f[3 * i + 1] += fi[1];
+      f[3 * i + 2] += fi[2];
+    }
+    return energy;
+  }
+
   /// Analytic second derivative of the three groups of terms of ψ_k (docs/potentials.md).
   void force_state_tangent(const FamilyState& f, double* K, double* work) const override {
     evaluate<true>(f, work, K, work + 3 * f.size);
@@ -485,6 +643,7 @@ class Tersoff final : public Potential {
   std::string style_;
   int ntypes_, n1_;
   double shift_ = 0.0;
+  bool symmetric_repulsive_ = true;  ///< (i, j, j) and (j, i, i) agree in A, λ1, R, D
   std::vector<Param> params_;
   std::vector<int> pidx_;
   double cutmax_ = 0.0, cutmaxsq_ = 0.0;

@@ -1,6 +1,7 @@
 /// `pdcg md BODY.h5 --steps N --dt DT [--temperature T --seed S | --velocities DUMP]
-///   [--dump FILE --every K] [--thermo CSV] [--force-unstable]`: explicit dynamics of a body's
-/// points (fixed-family MD for a delta body; the coarse surrogate for a rescaled one), velocity
+///   [--dump FILE --every K] [--thermo CSV] [--force-unstable] [--kernels auto|general]`:
+/// explicit dynamics of a body's points (fixed-family MD for a delta body; the coarse
+/// surrogate for a rescaled one), velocity
 /// Verlet in the order of LAMMPS fix nve (docs/dynamics.md). Starts at the body's reference
 /// positions. Refuses dt above the Gershgorin stable limit 2/ω_bound unless --force-unstable.
 #include <fmt/format.h>
@@ -25,6 +26,7 @@ struct Options {
   std::optional<double> temperature;
   double dt = 0.0;
   bool force_unstable = false;
+  std::string kernels = "auto";
 };
 
 int run(const Options& o) {
@@ -40,6 +42,8 @@ int run(const Options& o) {
   if (o.dump.empty() && o.every != 0) throw InputError("--every needs --dump FILE").key("--every");
   if (o.thermo_every < 1)
     throw InputError("bad thermo interval").key("--thermo-every").value(std::to_string(o.thermo_every)).expected(">= 1");
+  if (o.kernels != "auto" && o.kernels != "general")
+    throw InputError("bad force kernel choice").key("--kernels").value(o.kernels).expected("auto or general");
   // before any computation
   if (!o.dump.empty()) io::require_writable_output(o.dump, "--dump");
   if (!o.thermo.empty()) io::require_writable_output(o.thermo, "--thermo");
@@ -62,7 +66,8 @@ int run(const Options& o) {
   std::fprintf(stderr, "md: %zu points, %s body, dt = %g (stable limit %.6g, ω_bound %.6g)\n", b.size(),
                std::string(body::to_string(b.kind)).c_str(), o.dt, limit.dt_stable, limit.omega_bound);
 
-  dynamics::VelocityVerlet vv(b, b.x, std::move(v), o.dt);
+  dynamics::VelocityVerlet vv(b, b.x, std::move(v), o.dt,
+                              o.kernels == "general" ? dynamics::Kernels::general : dynamics::Kernels::automatic);
   std::optional<dynamics::DumpWriter> dump;
   std::optional<io::AtomicTextFile> thermo;
   auto write_thermo = [&] {
@@ -117,6 +122,9 @@ pdcg::cli::Registration reg(150, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("--thermo", o->thermo, "CSV step,time,kinetic,potential,total,temperature");
   sub->add_option("--thermo-every", o->thermo_every, "Thermo every K steps (default 1)");
   sub->add_flag("--force-unstable", o->force_unstable, "Run even when dt exceeds the stable limit");
+  sub->add_option("--kernels", o->kernels,
+                  "Force evaluation: auto (the dedicated pair, EAM or many-body kernel where one exists) or "
+                  "general (the body's general evaluator; for checks and benchmarks)");
   sub->footer(
       "Initial velocities are zero unless --temperature or --velocities is given.\n"
       "Example:\n  pdcg md body.h5 --steps 1000 --dt 0.005 --temperature 0.1 --dump run.dump --every 10 "

@@ -13,6 +13,7 @@
 #include "eam_kernel.hpp"
 #include "pdcg/atomistic/eam_spline.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 #include "pdcg/io/atomic_output.hpp"
 
 namespace pdcg::dynamics {
@@ -362,13 +363,23 @@ VelocityVerlet::VelocityVerlet(const body::Body& body, std::vector<double> y0,
   inv_mass_.resize(n);
   for (size_t k = 0; k < n; ++k) inv_mass_[k] = 1.0 / body.mass[k];
   f_.resize(3 * n);
-  half_ = body.potential->pairwise() && !body.statistics;
-  if (!body.statistics) eam_ = body.potential->eam_view();
+  const bool general = kernels == Kernels::general;
+  half_ = !general && body.potential->pairwise() && !body.statistics;
+  if (!general && !body.statistics) eam_ = body.potential->eam_view();
   if (eam_ && (eam_->ntypes < 1 || std::any_of(body.type.begin(), body.type.end(), [&](int t) {
                  return t < 1 || t > eam_->ntypes || !eam_->frho[static_cast<size_t>(t)];
                })))
     eam_ = nullptr;  // the general path reports the bad type (NaN force states)
   if (half_ || eam_) setup_half();
+  // the many-body kernel (sw, tersoff): delta bodies without molecular bonds or special factors
+  const auto& pot = *body.potential;
+  manybody_ = !general && !half_ && !eam_ && !body.statistics &&
+              body.kind == body::BodyKind::delta && pot.has_manybody_kernel() &&
+              body.families.pair_factor.empty() && body.families.bond_type.empty() &&
+              body.horizon() > 0.0 && std::all_of(body.type.begin(), body.type.end(), [&](int t) {
+                return t >= 1 && t <= pot.ntypes();
+              });
+  if (manybody_) setup_manybody();
   // the vector EAM passes (no special factors)
   if (eam_ && kernels == Kernels::automatic && half_factor_.empty() && detail::eam_avx2_available())
     eam_rows_ = std::make_shared<const detail::EamRows>(detail::make_eam_rows(*eam_));
@@ -436,6 +447,177 @@ void VelocityVerlet::setup_half() {
     rho_.assign(next, 0.0);
     fp_.assign(next, 0.0);
   }
+}
+
+/// Ghosts for every (point, image) a family bond reaches, the bonds' point/ghost indices with
+/// each family's owned bonds first (the half rule of setup_half), and the list arrays (a list
+/// holds at most its family: no reallocation when rebuilt).
+void VelocityVerlet::setup_manybody() {
+  const auto& fam = body_.families;
+  const size_t n = body_.size();
+  type_ext_.assign(body_.type.begin(), body_.type.end());
+  mb_reference_.assign(body_.x.begin(), body_.x.end());
+  std::unordered_map<std::uint64_t, std::int32_t> ghost_of;
+  mb_bond_ext_.resize(fam.bonds());
+  mb_bond_owned_.assign(n, 0);
+  for (size_t k = 0; k < n; ++k) {
+    auto pos = static_cast<size_t>(fam.offset[k]);
+    for (int pass = 0; pass < 2; ++pass)
+      for (auto b = fam.offset[k]; b < fam.offset[k + 1]; ++b) {
+        const auto ub = static_cast<size_t>(b);
+        const auto j = static_cast<size_t>(fam.neighbor[ub]);
+        const bool owned = j > k || (j == k && fam.reverse[ub] > b);
+        if (owned != (pass == 0)) continue;
+        const int img[3] = {fam.shift[3 * ub], fam.shift[3 * ub + 1], fam.shift[3 * ub + 2]};
+        std::int32_t target = fam.neighbor[ub];
+        if (img[0] != 0 || img[1] != 0 || img[2] != 0) {
+          std::uint64_t key = static_cast<std::uint64_t>(j) << 32;
+          for (int a = 0; a < 3; ++a) key |= static_cast<std::uint64_t>(img[a] + 512) << (10 * a);
+          const auto [it, added] =
+              ghost_of.emplace(key, static_cast<std::int32_t>(n + ghost_atom_.size()));
+          if (added) {
+            const Eigen::Vector3d sh = fam.h * Eigen::Vector3d(img[0], img[1], img[2]);
+            ghost_atom_.push_back(fam.neighbor[ub]);
+            ghost_shift_.insert(ghost_shift_.end(), {sh[0], sh[1], sh[2]});
+            type_ext_.push_back(body_.type[j]);
+            for (int a = 0; a < 3; ++a)
+              mb_reference_.push_back(body_.x[3 * j + static_cast<size_t>(a)] + sh[a]);
+          }
+          target = it->second;
+        }
+        mb_bond_ext_[pos++] = target;
+        if (owned) ++mb_bond_owned_[k];
+      }
+  }
+  if (n + ghost_atom_.size() > static_cast<size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw std::length_error("setup_manybody: more than 2^31 points and ghosts");
+  const size_t next = n + ghost_atom_.size();
+  y_.resize(3 * next);
+  f_.resize(3 * next);
+  update_ghosts();
+  thread_f_.assign(static_cast<size_t>(omp_get_max_threads()), std::vector<double>(3 * next));
+  mb_neighbor_.resize(fam.bonds());
+  mb_count_.assign(n, 0);
+  mb_owned_.assign(n, 0);
+  mb_built_y_.assign(3 * n, 0.0);
+  // list radius r_c + skin, skin = 0.1 r_c (Si sw: 0.38 Å; LAMMPS's metal default is 2 Å, but
+  // PairSW/PairTersoff then filter that list every step as the kernels here filter theirs)
+  const double rc = body_.potential->short_cutoff();
+  const double skin = 0.1 * rc;
+  mb_list_sq_ = (rc + skin) * (rc + skin);
+  mb_short_cutoff_ = rc;
+  mb_half_skin_sq_ = 0.25 * skin * skin;
+  mb_family_sq_ = body_.horizon() * body_.horizon();
+}
+
+/// Short lists at the current positions (ghosts up to date): the family bonds of each point
+/// shorter than the list radius, owned ones first.
+void VelocityVerlet::build_short_lists() {
+  const auto& fam = body_.families;
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const double* y = y_.data();
+  const double listsq = mb_list_sq_;
+  double worst = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : worst) if (n > 2048)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const auto b0 = fam.offset[static_cast<size_t>(k)];
+    const auto b1 = fam.offset[static_cast<size_t>(k) + 1];
+    const auto bown = b0 + mb_bond_owned_[static_cast<size_t>(k)];
+    const double* yk = y + 3 * k;
+    std::int32_t* out = mb_neighbor_.data() + b0;
+    std::int32_t c = 0, owned = 0;
+    for (auto b = b0; b < b1; ++b) {
+      const std::int32_t e = mb_bond_ext_[static_cast<size_t>(b)];
+      const double* ye = y + 3 * static_cast<std::int64_t>(e);
+      const double dx = ye[0] - yk[0], dy = ye[1] - yk[1], dz = ye[2] - yk[2];
+      if (dx * dx + dy * dy + dz * dz < listsq) {
+        out[c++] = e;
+        if (b < bown) ++owned;
+      }
+    }
+    double d2 = 0.0;  // displacement from the reference
+    for (int a = 0; a < 3; ++a) {
+      const double d = yk[a] - body_.x[3 * static_cast<size_t>(k) + static_cast<size_t>(a)];
+      d2 += d * d;
+    }
+    worst = std::max(worst, d2);
+    mb_count_[static_cast<size_t>(k)] = c;
+    mb_owned_[static_cast<size_t>(k)] = owned;
+    for (int a = 0; a < 3; ++a)
+      mb_built_y_[3 * static_cast<size_t>(k) + static_cast<size_t>(a)] = yk[a];
+  }
+  mb_built_ = true;
+  mb_displacement_ = std::sqrt(worst);
+  ++mb_builds_;
+}
+
+/// Forces and energy through the many-body kernel; false (nothing written) when the kernel
+/// met a configuration it does not reproduce (Potential::manybody_forces), after which the
+/// general path is used for the rest of the run.
+bool VelocityVerlet::evaluate_manybody() {
+  const std::int64_t n = static_cast<std::int64_t>(body_.size());
+  const std::int64_t next = n + static_cast<std::int64_t>(ghost_atom_.size());
+  update_ghosts();
+  // rebuild when a point has moved by more than half the skin (Neighbor::decide)
+  if (!mb_built_) {
+    build_short_lists();
+  } else {
+    double worst = 0.0;
+    const double* y = y_.data();
+    const double* yb = mb_built_y_.data();
+#pragma omp parallel for schedule(static) reduction(max : worst) if (n > 2048)
+    for (std::int64_t i = 0; i < 3 * n; i += 3) {
+      const double dx = y[i] - yb[i], dy = y[i + 1] - yb[i + 1], dz = y[i + 2] - yb[i + 2];
+      worst = std::max(worst, dx * dx + dy * dy + dz * dz);
+    }
+    if (worst > mb_half_skin_sq_) build_short_lists();
+  }
+  // Until the next build no point is farther than D + skin/2 from its reference (D: at the
+  // build), so two points within r_c are within r_c + 2(D + skin/2) at the reference: in each
+  // other's family while that is below the family cutoff. Beyond it a partner within r_c may
+  // be missing from a family, which ψ_k ignores and the short lists cannot see: hand over.
+  if (!(mb_short_cutoff_ + 2.0 * (mb_displacement_ + std::sqrt(mb_half_skin_sq_)) <
+        body_.horizon()))
+    return false;
+  const auto& pot = *body_.potential;
+  atomistic::ShortLists lists;
+  lists.offset = body_.families.offset.data();
+  lists.count = mb_count_.data();
+  lists.owned = mb_owned_.data();
+  lists.neighbor = mb_neighbor_.data();
+  lists.type = type_ext_.data();
+  lists.reference = mb_reference_.data();
+  lists.family_cutsq = mb_family_sq_;
+  const int nthreads = std::min<int>(omp_get_max_threads(), static_cast<int>(thread_f_.size()));
+  const double* y = y_.data();
+  double energy = 0.0;
+  bool ok = true;
+#pragma omp parallel num_threads(nthreads) reduction(+ : energy) reduction(&& : ok) if (n > 2048)
+  {
+    const auto tid = static_cast<size_t>(omp_get_thread_num());
+    const int used = omp_get_num_threads();
+    double* f = used == 1 ? f_.data() : thread_f_[tid].data();
+    std::fill(f, f + 3 * next, 0.0);
+    const std::int64_t k0 = n * static_cast<std::int64_t>(tid) / used;
+    const std::int64_t k1 = n * (static_cast<std::int64_t>(tid) + 1) / used;
+    bool applicable = true;
+    energy += pot.manybody_forces(lists, k0, k1, y, f, applicable);
+    ok = ok && applicable;
+    fold_ghosts(f, 3);
+    if (used > 1) {
+#pragma omp barrier
+#pragma omp for schedule(static) nowait
+      for (std::int64_t i = 0; i < 3 * n; ++i) {
+        double sum = 0.0;
+        for (int th = 0; th < used; ++th)
+          sum += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+        f_[static_cast<size_t>(i)] = sum;
+      }
+    }
+  }
+  if (!ok) return false;
+  potential_ = energy;
+  return true;
 }
 
 /// Ghost positions y_g = y_a + H·n (called inside or outside a parallel region).
@@ -726,7 +908,18 @@ void VelocityVerlet::evaluate(bool energy) {
     evaluate_pairwise(energy);
     return;
   }
-  const auto e = ev_.deformed(y_);
+  if (manybody_ && !mb_fallback_) {
+    if (evaluate_manybody()) return;
+    mb_fallback_ = true;
+    log::warn(
+        "md: at step {} an atom is {:.3g} from its reference position: with the short-list "
+        "skin, two atoms within the cutoff {:.6g} may now be beyond the family cutoff {:.6g} "
+        "at the reference (or an atom has more than 512 partners within the cutoff), which "
+        "the many-body kernel cannot represent; continuing with the general evaluation of the "
+        "fixed families (slower). A larger --family-cutoff (atoms2pd) keeps the kernel",
+        step_, mb_displacement_, mb_short_cutoff_, body_.horizon());
+  }
+  const auto e = ev_.deformed(std::span<const double>(y_.data(), 3 * body_.size()));
   potential_ = e.energy;
   std::copy(e.forces.begin(), e.forces.end(), f_.begin());
 }

@@ -6,10 +6,12 @@
 #      by `pdcg atoms2pd` vs `lmp` `run 0` (whole processes, wall seconds, best of REPEAT);
 #   2. fixed-family NVE dynamics (`pdcg md`, families 2 r_c + skin) vs `lmp` `fix nve`, the
 #      integration loops only (pdcg: its md loop; LAMMPS: "Loop time"), atom-steps/s, best of
-#      REPEAT, pdcg on 1 and 2 threads; ratio pdcg/lmp (> 1: pdcg faster);
+#      REPEAT, pdcg's many-body kernel on 1 and 2 threads and its general evaluator
+#      (`--kernels general`, the path before the kernel) on 1; ratio pdcg/lmp (> 1: pdcg faster);
 #   3. with CALLGRIND=1, instructions per atom-step of the loops on one thread (valgrind
-#      --tool=callgrind: pdcg VelocityVerlet::step, LAMMPS Verlet::run), CG_CELLS (default 4:
-#      512 atoms), CG_STEPS (default 5) steps: robust on a loaded machine.
+#      --tool=callgrind: pdcg VelocityVerlet::step, kernel and general path; LAMMPS
+#      Verlet::run), CG_CELLS (default 4: 512 atoms), CG_STEPS (default 5) steps: robust on a
+#      loaded machine.
 # Trajectories are checked against LAMMPS by tests/unit/dynamics (DynamicsVsLammps.Diamond*),
 # forces and per-atom energies by tests/unit/atomistic/test_manybody.cpp.
 # Usage: workflows/bench/manybody_vs_lammps.sh [PDCG]   (CELLS="3 10", STEPS=20, REPEAT=3)
@@ -105,13 +107,15 @@ LMP
     done
     lrate=$(python3 -c "print(f'{$natoms * $STEPS / $(best "${lt[@]}"):.4g}')")
     "$PDCG" atoms2pd --input c.data --potential pot.in --family-cutoff "$(fc_of "$style")" -o b.h5 >/dev/null 2>&1
-    for t in 1 2; do
+    for run in "1 auto" "2 auto" "1 general"; do
+      set -- $run
+      t=$1 kern=$2
       r=0
       for ((i = 0; i < REPEAT; i++)); do
-        r_=$(OMP_NUM_THREADS=$t "$PDCG" md b.h5 --steps "$STEPS" --dt 0.001 --velocities v.dump 2>&1 | sed -n 's/.* \([0-9.e+]*\) atom-steps\/s.*/\1/p')
+        r_=$(OMP_NUM_THREADS=$t "$PDCG" md b.h5 --steps "$STEPS" --dt 0.001 --velocities v.dump --kernels "$kern" 2>&1 | sed -n 's/.* \([0-9.e+]*\) atom-steps\/s.*/\1/p')
         r=$(python3 -c "print(f'{max($r, $r_):.4g}')")
       done
-      md_rows+=("| $style ($file) | $natoms | $t | $r | $lrate | $(python3 -c "print(f'{$r / $lrate:.2f}')") | $(cut -d' ' -f1 /proc/loadavg) |")
+      md_rows+=("| $style ($file) | $natoms | $kern | $t | $r | $lrate | $(python3 -c "print(f'{$r / $lrate:.2f}')") | $(cut -d' ' -f1 /proc/loadavg) |")
       echo "${md_rows[-1]}"
     done
   done
@@ -123,14 +127,17 @@ LMP
     make_crystal "$style" "$file" "$cells"
     natoms=$((8 * cells * cells * cells))
     "$PDCG" atoms2pd --input c.data --potential pot.in --family-cutoff "$(fc_of "$style")" -o b.h5 >/dev/null 2>&1
-    OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file=cg.pdcg \
-      --toggle-collect='pdcg::dynamics::VelocityVerlet::step(bool)' \
-      "$PDCG" md b.h5 --steps "$STEPS" --dt 0.001 --velocities v.dump >/dev/null 2>&1
+    for kern in auto general; do
+      OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file=cg.pdcg.$kern \
+        --toggle-collect='pdcg::dynamics::VelocityVerlet::step(bool)' \
+        "$PDCG" md b.h5 --steps "$STEPS" --dt 0.001 --velocities v.dump --kernels $kern >/dev/null 2>&1
+    done
     OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file=cg.lmp \
       --toggle-collect='LAMMPS_NS::Verlet::run(int)' lmp -in in.run -screen none -log none >/dev/null 2>&1
-    ip=$(sed -n 's/^summary: //p' cg.pdcg)
+    ip=$(sed -n 's/^summary: //p' cg.pdcg.auto)
+    ig=$(sed -n 's/^summary: //p' cg.pdcg.general)
     il=$(sed -n 's/^summary: //p' cg.lmp)
-    cg_rows+=("| $style ($file) | $natoms | $(python3 -c "a = $natoms * $STEPS; print(f'{$ip / a:.0f} | {$il / a:.0f} | {$il / $ip:.2f}')") |")
+    cg_rows+=("| $style ($file) | $natoms | $(python3 -c "a = $natoms * $STEPS; print(f'{$ip / a:.0f} | {$ig / a:.0f} | {$il / a:.0f} | {$il / $ip:.2f} | {$il / $ig:.2f}')") |")
     echo "${cg_rows[-1]}"
     STEPS=$STEPS_SAVED
   fi
@@ -143,13 +150,13 @@ echo "|---|---|---|---|---|"
 printf '%s\n' "${forces_rows[@]}"
 echo
 echo "Fixed-family NVE, $STEPS steps (integration loops):"
-echo "| system | atoms | pdcg threads | pdcg atom-steps/s | lmp atom-steps/s (1 thread) | ratio pdcg/lmp | load |"
-echo "|---|---|---|---|---|---|---|"
+echo "| system | atoms | pdcg kernels | pdcg threads | pdcg atom-steps/s | lmp atom-steps/s (1 thread) | ratio pdcg/lmp | load |"
+echo "|---|---|---|---|---|---|---|---|"
 printf '%s\n' "${md_rows[@]}"
 if [ ${#cg_rows[@]} -gt 0 ]; then
   echo
-  echo "| system | atoms | pdcg Ir/atom-step | lmp Ir/atom-step | ratio lmp/pdcg |"
-  echo "|---|---|---|---|---|"
+  echo "| system | atoms | pdcg kernel Ir/atom-step | pdcg general Ir/atom-step | lmp Ir/atom-step | ratio lmp/kernel | ratio lmp/general |"
+  echo "|---|---|---|---|---|---|---|"
   printf '%s\n' "${cg_rows[@]}"
 fi
 echo "machine: $machine; load average at start: $load_start, at end: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -106,6 +106,23 @@ struct HalfFamilies {
   bool energy = true;  ///< false: forces only (LAMMPS's eflag = 0), the kernel returns 0
 };
 
+/// Short neighbour lists of a many-body kernel (LAMMPS's full neighbour list): for each point k
+/// the partners within the list radius (short_cutoff() + a skin) at the last rebuild, drawn
+/// from k's family, as indices into points and ghosts (periodic images, as in HalfFamilies).
+/// The list of k is neighbor[offset[k] .. offset[k] + count[k]); its first owned[k] entries are
+/// the pairs k owns (each pair owned by one end: its pair term is evaluated once). Borrowed.
+struct ShortLists {
+  const std::int64_t* offset = nullptr;    ///< N+1 (list capacity of k: its family size)
+  const std::int32_t* count = nullptr;     ///< N
+  const std::int32_t* owned = nullptr;     ///< N
+  const std::int32_t* neighbor = nullptr;  ///< indices into points and ghosts
+  const int* type = nullptr;               ///< atom types (1-based) of points and ghosts
+  /// Reference positions of points and ghosts (x_a + H n): a triplet's two ends j, l belong
+  /// to each other's families iff |x_l − x_j|² < family_cutsq.
+  const double* reference = nullptr;
+  double family_cutsq = 0.0;
+};
+
 class Potential {
  public:
   virtual ~Potential() = default;
@@ -133,6 +150,25 @@ class Potential {
   /// for disjoint f. Only valid when has_pair_kernel() (std::logic_error otherwise).
   virtual double half_pair_forces(const HalfFamilies& h, std::int64_t k0, std::int64_t k1,
                                   const double* y, double* f) const;
+
+  /// True when manybody_forces is available (native sw and tersoff).
+  virtual bool has_manybody_kernel() const { return false; }
+  /// Largest distance at which two atoms interact directly (the short list's cutoff): the
+  /// largest r_c of sw and tersoff (cutoff() is 2 r_c, the reach of ψ_k); cutoff() otherwise.
+  virtual double short_cutoff() const { return cutoff(); }
+  /// Forces and energy of the LAMMPS form of a many-body style for the points k0 ≤ k < k1 as
+  /// centres (PairSW / PairTersoff::compute: each pair term once, by its owner; each triplet
+  /// once, at its centre, forces to all three atoms), added into f (3 per point and ghost);
+  /// returns the energy of those terms. A term's share in the ψ of an atom whose family lacks
+  /// one of its atoms is left out, as force_state does (ShortLists::reference), so that summed
+  /// over all centres this is U = Σ_k ψ_k and f = −∂U/∂y of the fixed families, provided
+  /// every atom within short_cutoff() of a centre is in its family and in its list (the
+  /// caller's lists and skin guarantee it). A point with more than 512 partners within the
+  /// cutoff sets `applicable` to false (the caller then uses the general path). Allocates
+  /// nothing; thread-safe for disjoint f. Only valid when has_manybody_kernel()
+  /// (std::logic_error otherwise).
+  virtual double manybody_forces(const ShortLists& lists, std::int64_t k0, std::int64_t k1,
+                                 const double* y, double* f, bool& applicable) const;
 
   /// Doubles of scratch force_state_tangent needs for a family of n bonds.
   static std::size_t tangent_workspace(std::int64_t n) { return 9 * static_cast<std::size_t>(n); }

@@ -76,8 +76,11 @@ struct Thermo {
 
 /// Force kernels of VelocityVerlet: `automatic` takes the vector variant where one exists and
 /// the CPU runs it (native EAM without special factors on AVX2 + FMA CPUs, chosen at run time),
-/// `scalar` always the scalar loops (for tests comparing the two; results agree to round-off).
-enum class Kernels { automatic, scalar };
+/// `scalar` always the scalar loops (for tests comparing the two; results agree to round-off),
+/// `general` the general body::Evaluator for every style (both ends of every bond, gather over
+/// reverse bonds: the reference the dedicated pair, EAM and many-body paths are checked and
+/// benchmarked against).
+enum class Kernels { automatic, scalar, general };
 
 /// True when the vector EAM kernel is compiled in and this CPU has AVX2 and FMA.
 bool eam_vector_kernel_available();
@@ -105,13 +108,21 @@ class VelocityVerlet {
   /// True when the force evaluation runs the vector EAM kernel (Kernels::automatic, native EAM
   /// without special factors, AVX2 + FMA CPU).
   bool vector_eam() const { return eam_rows_ != nullptr; }
+  /// True when forces come from the many-body kernel (native sw, tersoff; not handed over to
+  /// the general path).
+  bool manybody_kernel() const { return manybody_ && !mb_fallback_; }
+  /// Number of short-list builds of the many-body kernel so far (0: not used).
+  std::int64_t short_list_builds() const { return mb_builds_; }
 
  private:
   void evaluate(bool energy = true);
   void evaluate_pairwise(bool energy);
   double pair_energy() const;
   void evaluate_eam();
+  bool evaluate_manybody();
   void setup_half();
+  void setup_manybody();
+  void build_short_lists();
   void update_ghosts();
   void fold_ghosts(double* f, std::size_t stride) const;
   const body::Body& body_;
@@ -140,6 +151,24 @@ class VelocityVerlet {
   /// The EAM tables in the vector kernel's row layout (null: the scalar loops), see
   /// src/dynamics/eam_kernel.hpp. The half-family arrays then carry 3 padding entries.
   std::shared_ptr<const detail::EamRows> eam_rows_;
+  /// Native many-body styles (Potential::has_manybody_kernel: sw, tersoff): the LAMMPS scheme,
+  /// each pair and triplet once at one owner with forces to every atom it moves, over short
+  /// lists (partners within short_cutoff() + skin, drawn from the families, owned pairs
+  /// first) rebuilt when a point has moved by more than half the skin since the last build;
+  /// ghosts for every (point, image) a family bond reaches. mb_fallback_: a point moved so far
+  /// from its reference that a partner within r_c might lie outside its family (or has more
+  /// than 512 partners within r_c); the general Evaluator is used from then on.
+  bool manybody_ = false, mb_fallback_ = false, mb_built_ = false;
+  std::vector<std::int32_t> mb_bond_ext_;    ///< per family bond (owned first): point or ghost
+  std::vector<std::int32_t> mb_bond_owned_;  ///< per point: owned bonds of its family
+  std::vector<std::int32_t> mb_neighbor_, mb_count_, mb_owned_;
+  std::vector<double> mb_reference_;  ///< reference positions of points and ghosts
+  std::vector<double> mb_built_y_;    ///< positions at the last list build
+  double mb_list_sq_ = 0.0, mb_half_skin_sq_ = 0.0, mb_family_sq_ = 0.0;
+  double mb_short_cutoff_ = 0.0;  ///< r_c of the short lists
+  double mb_displacement_ = 0.0;  ///< largest distance of a point from its reference at the build
+  std::int64_t mb_builds_ = 0;
+
   body::Evaluator ev_;
   std::vector<double> y_, v_, f_, inv_mass_;
   double dt_, ftm2v_, mvv2e_, boltz_, potential_ = 0.0;

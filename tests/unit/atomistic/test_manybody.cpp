@@ -424,9 +424,26 @@ TEST(ManyBodyFileErrors, MissingElementTripleNamesFileAndTriple) {
   EXPECT_EQ(e.source_name(), path);
   EXPECT_EQ(e.bad_value(), "Si C C");
   EXPECT_NE(std::string(e.what()).find("missing an entry"), std::string::npos) << e.what();
+  // the fix: add the entry or map fewer elements, naming the pair_coeff line
+  EXPECT_NE(std::string(e.what()).find("add the entry"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("pair_coeff (line 3"), std::string::npos) << e.what();
   // the same file is fine for Si alone (LAMMPS skips entries of unmapped elements)
   EXPECT_NO_THROW(make_potential(read_potential_commands_from_string(
       "units metal\npair_style tersoff\npair_coeff * * " + path + " Si\n", "model.in", 1)));
+  // Stillinger-Weber: GaN.sw without its one-line entry "Ga N N"
+  std::string gan;
+  {
+    std::istringstream in(file_text("GaN.sw"));
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("Ga N  N ", 0) != 0) gan += line + "\n";
+  }
+  ASSERT_LT(gan.size(), file_text("GaN.sw").size());
+  const std::string sw = write(dir, "GaN.sw", gan);
+  const auto es = error_of("units metal\npair_style sw\npair_coeff * * " + sw + " Ga N\n", 2);
+  EXPECT_EQ(es.source_name(), sw);
+  EXPECT_EQ(es.bad_value(), "Ga N N");
+  EXPECT_NE(std::string(es.what()).find("add the entry"), std::string::npos) << es.what();
 }
 
 TEST(ManyBodyFileErrors, TruncatedFilesNameTheLine) {
