@@ -5,7 +5,7 @@
 # Then, unless PDCG_CHECKS=0, the sanitizer and fuzzing checks (docs/testing.md "Sanitizers
 # and fuzzing", with their cost in the CI budget): tests/sanitize.sh (one clang-14 ASan +
 # UBSan build, build-checks/, and the suite there without the labels slow and cli) and
-# tests/fuzz/run.sh (every libFuzzer harness, built in that same tree, PDCG_FUZZ_SECONDS (10)
+# tests/fuzz/run.sh (every libFuzzer harness, built in that same tree, PDCG_FUZZ_SECONDS (5)
 # each after its corpus replay). CI (.ci/run) runs them; PDCG_CHECKS=0 ./tests/run.sh skips
 # them locally. The extra ctest arguments apply to the Release tests only.
 set -euo pipefail
@@ -22,6 +22,6 @@ if [ "$PDCG_CHECKS" = 1 ]; then
   t0=$SECONDS
   "$PDCG_ROOT/tests/sanitize.sh"
   t1=$SECONDS
-  PDCG_FUZZ_SECONDS=${PDCG_FUZZ_SECONDS:-10} "$PDCG_ROOT/tests/fuzz/run.sh"
+  PDCG_FUZZ_SECONDS=${PDCG_FUZZ_SECONDS:-5} "$PDCG_ROOT/tests/fuzz/run.sh"
   echo "checks: sanitizer build + suite $((t1 - t0)) s, fuzzing $((SECONDS - t1)) s"
 fi

@@ -17,7 +17,9 @@ using namespace pdcg::solver;
 TEST(FractureEnergySlow, StripInitiationAsTheHorizonShrinks) {
   for (double m : {3.015, 4.015}) {
     std::vector<StripResult> r;
-    for (int rows : {16, 24, 32, 48}) {
+    // the coarsest and the finest grid of the series in docs/fracture.md §5.3 (16, 24, 32, 48
+    // rows there; the two middle ones cost CI minutes and add no assertion the ends lack)
+    for (int rows : {16, 48}) {
       r.push_back(strip(m, rows));
       const double stretch =
           std::pow(r.front().stretch_strain_at_unit_G / r.back().stretch_strain_at_unit_G, 2);
