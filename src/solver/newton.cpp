@@ -350,6 +350,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     }
   Eigen::VectorXd u = u_;
   Eigen::VectorXd Rf(nf), dx(nf), rhs(nf), Rtrial(nf);
+  bool grip_load_step = false;
   const double dx_scale = model_->body().spacing();
   rep.residual_history.clear();
   double last_inc = INFINITY;
@@ -367,7 +368,14 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     const auto t1 = std::chrono::steady_clock::now();
     reduced_residual(u, f, fext, t_target, Rf);
     const double scale = std::max({f.norm(), fext.norm(), 1e-300});
-    const double rnorm = Rf.norm() / scale;
+    // Surface grips: in the first iteration their rows hold the load increment κ (ū(t) − C u),
+    // the counterpart of Δu_c of the eliminated components, which is no residual either:
+    // left out of the norm, and (as Δu_c ≠ 0) the full step is taken.
+    double grip2 = 0;
+    for (int dof : grip_dof_) grip2 += Rf[free_index_[dof]] * Rf[free_index_[dof]];
+    if (it == 0) grip_load_step = std::sqrt(grip2) > 1e-10 * grip_scale_ * dx_scale;
+    const double rnorm =
+        (it == 0 ? std::sqrt(std::max(0.0, Rf.squaredNorm() - grip2)) : Rf.norm()) / scale;
     rep.residual_history.push_back(rnorm);
     // Stagnation or divergence: Newton near a solution gains orders of magnitude
     // within a few iterations; give the step back for a cutback early.
@@ -585,7 +593,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
              h < rep.residual_history.size(); ++h)
           recent = std::max(recent, rep.residual_history[h]);
         const double rt = std::sqrt(r2) / sc;
-        if (du_c.squaredNorm() > 0 || rt <= opt_.tolerance ||
+        if (du_c.squaredNorm() > 0 || (it == 0 && grip_load_step) || rt <= opt_.tolerance ||
             (alpha == 1.0 ? rt <= 10.0 * recent : rt <= (1 - 1e-4 * alpha) * recent))
           break;
       }
