@@ -1,5 +1,6 @@
 // boundary: named regions with prescribed displacements or tractions (numbers or expressions
 // in t), and the points a region selects.
+#include <cmath>
 #include <limits>
 #include <set>
 
@@ -44,7 +45,7 @@ class Boundary final : public Component {
     std::set<std::string> names;
     const char* axes[3] = {"x", "y", "z"};
     for (const auto& e : b) {
-      c.keys(e, "boundary[]", {"name", "region", "displacement", "traction"});
+      c.keys(e, "boundary[]", {"name", "region", "displacement", "traction", "grip"});
       BoundaryCondition bc;
       bc.name = e["name"] ? c.text(e["name"], "boundary[].name")
                           : fmt::format("set{}", s.boundary.size());
@@ -75,7 +76,12 @@ class Boundary final : public Component {
           if (dn[axes[a]])
             bc.value[a] =
                 value_fn(c, dn[axes[a]], w + ".displacement." + axes[a], bc.value_text[a]);
+        if (e["grip"])
+          bc.grip_surface = c.choice(e["grip"], w + ".grip", {"points", "surface"}) == "surface";
       } else if (e["traction"]) {
+        if (e["grip"])
+          throw c.err(e["grip"], w + ".grip", "grip is a key of displacement sets")
+              .fix("drop grip from the traction set");
         bc.is_traction = true;
         const auto tn = e["traction"];
         if (!tn.IsSequence() || static_cast<int>(tn.size()) != d)
@@ -123,6 +129,7 @@ class Boundary final : public Component {
         for (int a = 0; a < d; ++a)
           if (bc.value[a]) y << YAML::Key << axes[a] << YAML::Value << bc.value_text[a];
         y << YAML::EndMap;
+        y << YAML::Key << "grip" << YAML::Value << (bc.grip_surface ? "surface" : "points");
       }
       y << YAML::EndMap;
     }
@@ -168,6 +175,47 @@ std::vector<int> select(const Scene& s, const solver::Discretization& body,
                         body.spacing()))
         .fix(s.model_geometry ? "check the bounds against the model's points (pdcg info MODEL)"
                               : "check the bounds against geometry.origin and geometry.size");
+  return out;
+}
+
+std::vector<solver::Vec3> surface_grip_offsets(const Scene& s, const solver::Discretization& body,
+                                               const BoundaryCondition& bc,
+                                               const std::vector<int>& points) {
+  const std::string key = "boundary[" + bc.name + "].grip";
+  if (s.model_geometry || s.geometry.nodes != solver::GridNodes::cell_centres)
+    throw checks::error(s, key, "grip: surface needs a cell-centred grid")
+        .value("surface")
+        .expected(
+            "geometry on a grid with nodes: cells (vertices and model points already "
+            "lie on the surface)")
+        .fix("drop grip: surface");
+  if (s.inertia)
+    throw checks::error(s, key,
+                        "grip: surface is for static runs (explicit dynamics moves the "
+                        "selected points themselves)")
+        .value("surface")
+        .fix("drop grip: surface");
+  const auto& surf = body.surface();
+  Vec3 n = Vec3::Zero();
+  for (int p : points) n += surf[p];
+  int axis = -1;
+  if (n.norm() > 0) {
+    n.normalize();
+    for (int a = 0; a < body.dimension(); ++a)
+      if (std::abs(std::abs(n(a)) - 1.0) < 1e-9) axis = a;
+  }
+  if (axis < 0)
+    throw checks::error(s, key, "grip: surface needs a set on one flat face of the box")
+        .value("surface")
+        .expected(
+            "a region selecting the point column (row, layer) next to one face, e.g. "
+            "x_min: <right edge>")
+        .fix("select one face per displacement set, or drop grip: surface");
+  const double area = std::pow(body.spacing(), body.dimension() - 1);
+  std::vector<Vec3> out;
+  out.reserve(points.size());
+  for (int p : points)
+    out.push_back(surf[p].dot(n) > 0.5 * area ? Vec3(0.5 * body.spacing() * n) : Vec3::Zero());
   return out;
 }
 

@@ -79,6 +79,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     } else {
       solver::DisplacementSet ds{bc.name, std::move(pts), {}};
       ds.component = bc.value;
+      if (bc.grip_surface) ds.surface_offset = surface_grip_offsets(s, body, bc, ds.points);
       dsets.push_back(std::move(ds));
     }
   }

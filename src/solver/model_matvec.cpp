@@ -168,27 +168,12 @@ bool Model::internal_force_and_operator(const Eigen::VectorXd& u, Eigen::VectorX
   if (f.size() != static_cast<Eigen::Index>(dofs())) f.resize(dofs());
   f.setZero();
   if (!energy_force_and_tangents(u, f) || !evaluate_weak_rows(u, true)) return false;
-  // Weak rows: f_k −= P(F̄_k) e_k, and the block W_k[a][bL] = Σ_J Ā_aJbL e_J of
-  // ∂(P(F̄_k) e_k)/∂F̄_k for the products.
+  // Weak rows: f_k −= Σ_l P(F̄_l) c_kl (the bond-flux correction, model.cpp); the products
+  // use Ā_l = A(F̄_l), kept by evaluate_weak_rows, and a scratch δP_l per weak point.
   const std::size_t nw = weak_points_.size();
-  const int d = d_, d2 = d * d;
-  Wk_.resize(nw * static_cast<std::size_t>(d * d2));
+  dPw_.resize(nw * static_cast<std::size_t>(d_ * d_));
 #pragma omp parallel for schedule(static)
-  for (std::size_t w = 0; w < nw; ++w) {
-    const auto k = static_cast<std::size_t>(weak_points_[w]);
-    const Vec3& e = defect_[k];
-    const Tangent& A = Abar_[w];
-    double* W = Wk_.data() + w * static_cast<std::size_t>(d * d2);
-    for (int a = 0; a < d; ++a) {
-      for (int J = 0; J < d; ++J) f[d * k + a] -= Pbar_[w](a, J) * e(J);
-      for (int b = 0; b < d; ++b)
-        for (int L = 0; L < d; ++L) {
-          double t = 0;
-          for (int J = 0; J < d; ++J) t += A(flat(a, J), flat(b, L)) * e(J);
-          W[a * d2 + b * d + L] = t;
-        }
-    }
-  }
+  for (std::size_t w = 0; w < nw; ++w) subtract_correction(w, f);
   if (!anchor_points_.empty()) add_anchors(u, f, nullptr);
   return true;
 }
@@ -228,18 +213,34 @@ void Model::product_sweep(const Eigen::VectorXd& v, Eigen::VectorXd& out) const 
         od[i] = x;
       }
     }
-    // Weak rows: out_k −= W_k δF̄_k, δF̄_k = Σ_{m∈H̄_k} v_m ⊗ Ḡ_k^m (each row written by one
-    // thread; after the reduction's implicit barrier).
+    // Weak rows: δP_l = Ā_l : δF̄_l, δF̄_l = Σ_{m∈H̄_l} v_m ⊗ Ḡ_l^m, per weak point, then
+    // out_k −= Σ_l δP_l c_kl (each row written by one thread; after the barriers).
+    double* dP = dPw_.data();
 #pragma omp for schedule(static)
     for (std::size_t w = 0; w < nw; ++w) {
       const int k = weak_points_[w];
       double dF[D2];
       gather<D>(Pst.index.data(), Pst.grad.data(), Pst.offsets[k], Pst.offsets[k + 1], vd, dF);
-      const double* W = Wk_.data() + w * static_cast<std::size_t>(D * D2);
-      for (int a = 0; a < D; ++a) {
-        double x = 0.0;
-        for (int i = 0; i < D2; ++i) x += W[a * D2 + i] * dF[i];
-        od[static_cast<std::size_t>(D) * k + a] -= x;
+      const Tangent& A = Abar_[w];
+      for (int a = 0; a < D; ++a)
+        for (int J = 0; J < D; ++J) {
+          double x = 0.0;
+          for (int b = 0; b < D; ++b)
+            for (int L = 0; L < D; ++L) x += A(flat(a, J), flat(b, L)) * dF[b * D + L];
+          dP[w * D2 + a * D + J] = x;
+        }
+    }
+#pragma omp for schedule(static)
+    for (std::size_t w = 0; w < nw; ++w) {
+      const int k = weak_points_[w];
+      for (auto c = corr_.begin(w); c < corr_.end(w); ++c) {
+        const double* p = dP + static_cast<std::size_t>(corr_.index[c]) * D2;
+        const Vec3& h = corr_coef_[c];
+        for (int a = 0; a < D; ++a) {
+          double x = 0.0;
+          for (int J = 0; J < D; ++J) x += p[a * D + J] * h(J);
+          od[static_cast<std::size_t>(D) * k + a] -= x;
+        }
       }
     }
   }
@@ -259,7 +260,8 @@ void Model::apply_tangent(const Eigen::VectorXd& v, Eigen::VectorXd& out) const 
 }
 
 std::size_t Model::operator_bytes() const {
-  std::size_t b = (Apk_.capacity() + Wk_.capacity()) * sizeof(double);
+  std::size_t b =
+      (Apk_.capacity() + dPw_.capacity()) * sizeof(double) + Abar_.capacity() * sizeof(Tangent);
   for (const auto& x : mvbuf_) b += x.capacity() * sizeof(double);
   return b;
 }

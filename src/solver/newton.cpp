@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <set>
@@ -132,9 +133,55 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
     throw InputError("all displacement constraints act on one point: the body can rotate freely")
         .key("boundary")
         .fix("constrain a second point or an edge");
+  // Surface grips (docs/solver.md §4, "Grips on the surface"): prescribed components of
+  // points with an offset stay unknowns, with the constraint row u_k + (F̄_k − I) o_k = ū.
+  grip_of_dof_.assign(n, -1);
+  for (std::size_t s = 0; s < dsets_.size(); ++s) {
+    const auto& ds = dsets_[s];
+    if (ds.surface_offset.empty()) continue;
+    if (ds.surface_offset.size() != ds.points.size())
+      throw Error("internal error: surface offsets of displacement set '" + ds.name +
+                  "' do not match its points");
+    for (std::size_t i = 0; i < ds.points.size(); ++i) {
+      const Vec3& o = ds.surface_offset[i];
+      if (!(o.squaredNorm() > 0)) continue;
+      for (int a = 0; a < d; ++a) {
+        const int dof = d * ds.points[i] + a;
+        if (!ds.component[a] || prescribed_by_[dof] != (static_cast<int>(s << 2) | a) ||
+            grip_of_dof_[dof] >= 0)
+          continue;
+        grip_of_dof_[dof] = static_cast<int>(grip_dof_.size());
+        grip_dof_.push_back(dof);
+        grip_offset_.push_back(o);
+      }
+    }
+  }
+  if (grip_dof_.empty()) {
+    grip_of_dof_.clear();
+  } else {
+    if (opt_.check_stability)
+      throw InputError(
+          "the stability check counts the inertia of the stiffness, which the constraint rows "
+          "of grips on the surface replace")
+          .key("solver.check_stability")
+          .value("true")
+          .fix("grip the point columns (boundary grip: points), or drop check_stability");
+    if (opt_.linear == LinearSolver::cholmod) {
+      log::info("grips on the surface make the system unsymmetric: using UMFPACK");
+      opt_.linear = LinearSolver::umfpack;
+    }
+    // κ: a point stiffness, A₁₁₁₁(I) Δx^(d−2), so that the constraint rows are commensurate
+    // with the force rows (the Newton residual mixes them).
+    Mat3 P;
+    Tangent A;
+    model.material().evaluate(Mat3::Identity(), nullptr, &P, &A);
+    grip_scale_ = std::abs(A(flat(0, 0), flat(0, 0))) *
+                  std::pow(model.body().spacing(), static_cast<double>(d - 2));
+    if (!(grip_scale_ > 0)) grip_scale_ = 1.0;
+  }
   free_index_.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i)
-    if (prescribed_by_[i] < 0) {
+    if (prescribed_by_[i] < 0 || (!grip_of_dof_.empty() && grip_of_dof_[i] >= 0)) {
       free_index_[i] = static_cast<int>(free_dofs_.size());
       free_dofs_.push_back(static_cast<int>(i));
     }
@@ -192,6 +239,60 @@ void StaticSolver::build_reduced() {
     red_map_[q] = static_cast<std::int64_t>(Kff.valuePtr()[q]);
 }
 
+template <class Fn>
+void StaticSolver::grip_row(std::size_t g, Fn&& fn) const {
+  const int d = model_->dimension();
+  const int dof = grip_dof_[g], k = dof / d, a = dof % d;
+  const Stencils& P = model_->body().point_stencils();
+  const Vec3& o = grip_offset_[g];
+  fn(dof, grip_scale_);
+  for (auto r = P.offsets[k]; r < P.offsets[k + 1]; ++r) {
+    const double* gm = P.grad.data() + r * d;
+    double c = 0;
+    for (int J = 0; J < d; ++J) c += o(J) * gm[J];
+    fn(d * P.index[r] + a, grip_scale_ * c);
+  }
+}
+
+void StaticSolver::reduced_residual(const Eigen::VectorXd& u, const Eigen::VectorXd& f,
+                                    const Eigen::VectorXd& fext, double t,
+                                    Eigen::VectorXd& R) const {
+  const int nf = static_cast<int>(free_dofs_.size());
+  R.resize(nf);
+  for (int i = 0; i < nf; ++i) R[i] = f[free_dofs_[i]] - fext[free_dofs_[i]];
+  for (std::size_t g = 0; g < grip_dof_.size(); ++g) {
+    double cu = 0;
+    grip_row(g, [&](int col, double c) { cu += c * u[col]; });
+    const int dof = grip_dof_[g];
+    const auto& set = dsets_[prescribed_by_[dof] >> 2];
+    R[free_index_[dof]] = cu - grip_scale_ * set.component[prescribed_by_[dof] & 3](t);
+  }
+}
+
+void StaticSolver::apply_grip_rows(SparseRow& K) const {
+  double* vals = K.valuePtr();
+  const int* inner = K.innerIndexPtr();
+  for (std::size_t g = 0; g < grip_dof_.size(); ++g) {
+    const int row = grip_dof_[g];
+    const auto b = K.outerIndexPtr()[row], e = K.outerIndexPtr()[row + 1];
+    std::fill(vals + b, vals + e, 0.0);
+    grip_row(g, [&](int col, double c) {
+      const int* at = std::lower_bound(inner + b, inner + e, col);
+      if (at == inner + e || *at != col)
+        throw Error("internal error: a grip constraint column is not in the tangent's pattern");
+      vals[at - inner] += c;
+    });
+  }
+}
+
+void StaticSolver::apply_grip_product(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
+  for (std::size_t g = 0; g < grip_dof_.size(); ++g) {
+    double v = 0;
+    grip_row(g, [&](int col, double c) { v += c * x[col]; });
+    out[grip_dof_[g]] = v;
+  }
+}
+
 void StaticSolver::external_force(double t, Eigen::VectorXd& fext) const {
   const int d = model_->dimension();
   fext.setZero(model_->dofs());
@@ -212,18 +313,44 @@ Vec3 StaticSolver::reaction(std::size_t set) const {
   return r;
 }
 
+double StaticSolver::force_balance(Vec3* sum, double* load) const {
+  // Σ (f_int − f_ext) over the prescribed components (the constraint forces on the body) plus
+  // Σ f_ext (the applied tractions): zero for a body in equilibrium. The free components add
+  // their Newton residual, so the value is the discrete balance plus the solve's tolerance.
+  const int d = model_->dimension();
+  Eigen::VectorXd fext;
+  external_force(t_, fext);
+  Vec3 b = Vec3::Zero();
+  for (std::size_t i = 0; i < model_->dofs(); ++i) {
+    b(static_cast<int>(i % d)) += fext[i];
+    if (prescribed_by_[i] >= 0) b(static_cast<int>(i % d)) += f_[i] - fext[i];
+  }
+  double scale = 0.0;  // the load: the largest set force
+  for (std::size_t s = 0; s < dsets_.size(); ++s) scale = std::max(scale, reaction(s).norm());
+  for (std::size_t s = 0; s < tsets_.size(); ++s) {
+    Vec3 t = Vec3::Zero();
+    for (std::size_t i = 0; i < tsets_[s].points.size(); ++i)
+      for (int a = 0; a < d; ++a) t(a) += fext[d * tsets_[s].points[i] + a];
+    scale = std::max(scale, t.norm());
+  }
+  if (sum) *sum = b;
+  if (load) *load = scale;
+  return scale > 0 ? b.norm() / scale : b.norm();
+}
+
 bool StaticSolver::newton(double t_target, StepReport& rep) {
   const std::size_t n = model_->dofs();
   const int nf = static_cast<int>(free_dofs_.size());
   Eigen::VectorXd fext, f, du_c = Eigen::VectorXd::Zero(n);
   external_force(t_target, fext);
   for (std::size_t i = 0; i < n; ++i)
-    if (prescribed_by_[i] >= 0) {
+    if (prescribed_by_[i] >= 0 && free_index_[i] < 0) {
       const auto& set = dsets_[prescribed_by_[i] >> 2];
       du_c[i] = set.component[prescribed_by_[i] & 3](t_target) - u_[i];
     }
   Eigen::VectorXd u = u_;
-  Eigen::VectorXd Rf(nf), dx(nf), rhs(nf);
+  Eigen::VectorXd Rf(nf), dx(nf), rhs(nf), Rtrial(nf);
+  bool grip_load_step = false;
   const double dx_scale = model_->body().spacing();
   rep.residual_history.clear();
   double last_inc = INFINITY;
@@ -237,10 +364,18 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
   for (int it = 0; it < opt_.max_iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!evaluate() && !(inadmissible_ && inadmissible_(u) && evaluate())) return false;
+    if (!grip_dof_.empty() && !mf) apply_grip_rows(K_);
     const auto t1 = std::chrono::steady_clock::now();
-    for (int i = 0; i < nf; ++i) Rf[i] = f[free_dofs_[i]] - fext[free_dofs_[i]];
+    reduced_residual(u, f, fext, t_target, Rf);
     const double scale = std::max({f.norm(), fext.norm(), 1e-300});
-    const double rnorm = Rf.norm() / scale;
+    // Surface grips: in the first iteration their rows hold the load increment κ (ū(t) − C u),
+    // the counterpart of Δu_c of the eliminated components, which is no residual either:
+    // left out of the norm, and (as Δu_c ≠ 0) the full step is taken.
+    double grip2 = 0;
+    for (int dof : grip_dof_) grip2 += Rf[free_index_[dof]] * Rf[free_index_[dof]];
+    if (it == 0) grip_load_step = std::sqrt(grip2) > 1e-10 * grip_scale_ * dx_scale;
+    const double rnorm =
+        (it == 0 ? std::sqrt(std::max(0.0, Rf.squaredNorm() - grip2)) : Rf.norm()) / scale;
     rep.residual_history.push_back(rnorm);
     // Stagnation or divergence: Newton near a solution gains orders of magnitude
     // within a few iterations; give the step back for a cutback early.
@@ -253,6 +388,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     if (du_c.squaredNorm() > 0 && mf) {
       const auto tp = std::chrono::steady_clock::now();
       model_->apply_tangent(du_c, S.yfull);
+      apply_grip_product(du_c, S.yfull);
       rep.product_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
       ++rep.operator_products;
@@ -369,6 +505,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
           if (mf) {  // prescribed entries of xfull stay 0
             for (int i = 0; i < nf; ++i) xf[fd[i]] = in[i];
             model_->apply_tangent(S.xfull, S.yfull);
+            apply_grip_product(S.xfull, S.yfull);
             for (int i = 0; i < nf; ++i) out[i] = S.yfull[fd[i]];
             rep.product_seconds +=
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
@@ -443,11 +580,8 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += alpha * dx[i];
       if (!opt_.line_search) break;
       if (model_->internal_force(u, ftrial)) {
-        double r2 = 0;
-        for (int i = 0; i < nf; ++i) {
-          const double v = ftrial[free_dofs_[i]] - fext[free_dofs_[i]];
-          r2 += v * v;
-        }
+        reduced_residual(u, ftrial, fext, t_target, Rtrial);
+        const double r2 = Rtrial.squaredNorm();
         const double sc = std::max({ftrial.norm(), fext.norm(), 1e-300});
         // Non-monotone acceptance (after Grippo, Lampariello & Lucidi 1986): the
         // full Newton step is taken unless the residual grows more than tenfold
@@ -459,7 +593,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
              h < rep.residual_history.size(); ++h)
           recent = std::max(recent, rep.residual_history[h]);
         const double rt = std::sqrt(r2) / sc;
-        if (du_c.squaredNorm() > 0 || rt <= opt_.tolerance ||
+        if (du_c.squaredNorm() > 0 || (it == 0 && grip_load_step) || rt <= opt_.tolerance ||
             (alpha == 1.0 ? rt <= 10.0 * recent : rt <= (1 - 1e-4 * alpha) * recent))
           break;
       }
@@ -543,11 +677,12 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
     rep.t = t_;
     rep.step = ++step_;
     rep.cutbacks = cutbacks;
+    rep.balance = force_balance();
     log::info(
         "step {} t = {:.6g}: {} Newton iterations, residual {:.3e} (history {:.2e}); "
-        "assembly {:.2f} s, linear solve {:.2f} s",
+        "force balance {:.2e} of the load; assembly {:.2f} s, linear solve {:.2f} s",
         rep.step, t_, rep.iterations, rep.residual, fmt::join(rep.residual_history, " "),
-        rep.assembly_seconds, rep.solve_seconds);
+        rep.balance, rep.assembly_seconds, rep.solve_seconds);
     if (on_step) on_step(rep);
     if (dt < nominal) dt = std::min(nominal, 2 * dt);  // recover after a successful step
   }
@@ -581,6 +716,7 @@ bool StaticSolver::reequilibrate(StepReport& rep) {
   }
   rep.t = t_;
   rep.step = step_;
+  rep.balance = force_balance();
   return true;
 }
 
@@ -590,10 +726,29 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   Eigen::VectorXd fext, f, u = u_;
   external_force(t_, fext);
   for (std::size_t i = 0; i < n; ++i)
-    if (prescribed_by_[i] >= 0) {
+    if (prescribed_by_[i] >= 0 && free_index_[i] < 0) {
       const auto& set = dsets_[prescribed_by_[i] >> 2];
       u[i] = set.component[prescribed_by_[i] & 3](t_);
     }
+  // Surface grips: not moved by the relaxation; after every update their constraint rows are
+  // solved for their own unknowns (Gauss–Seidel sweeps: the rows couple a grip column).
+  auto project_grips = [&] {
+    for (int sweep = 0; sweep < 4; ++sweep)
+      for (std::size_t g = 0; g < grip_dof_.size(); ++g) {
+        const int dof = grip_dof_[g];
+        double rest = 0, self = 0;
+        grip_row(g, [&](int col, double c) {
+          if (col == dof)
+            self += c;
+          else
+            rest += c * u[col];
+        });
+        const auto& set = dsets_[prescribed_by_[dof] >> 2];
+        if (self != 0)
+          u[dof] = (grip_scale_ * set.component[prescribed_by_[dof] & 3](t_) - rest) / self;
+      }
+  };
+  project_grips();
   if (!model_->internal_force_and_tangent(u, f, K_)) {
     log::warn("adaptive dynamic relaxation: inadmissible deformation (J ≤ 0) at the start state");
     return false;
@@ -610,6 +765,7 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   Eigen::VectorXd r_now(nf), r_old(nf), v(nf);
   auto residual = [&](double& rel) {
     for (int i = 0; i < nf; ++i) r_now[i] = fext[free_dofs_[i]] - f[free_dofs_[i]];
+    for (int dof : grip_dof_) r_now[free_index_[dof]] = 0.0;  // not moved: no velocity
     rel = r_now.norm() / std::max({f.norm(), fext.norm(), 1e-300});
   };
   double rel = 0;
@@ -619,6 +775,7 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   int it = 0;
   for (; it < max_iterations && rel > tol; ++it) {
     for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += v[i];
+    if (!grip_dof_.empty()) project_grips();
     r_old = r_now;
     bool admissible = model_->internal_force(u, f);
     if (!admissible && inadmissible_ && inadmissible_(u)) {
@@ -694,6 +851,7 @@ void StaticSolver::prepare_restart() {
   Eigen::VectorXd f;
   if (!model_->internal_force_and_tangent(Eigen::VectorXd::Zero(model_->dofs()), f, K_))
     throw NumericalError("inadmissible reference state while preparing a restart");
+  if (!grip_dof_.empty()) apply_grip_rows(K_);
   for (std::size_t q = 0; q < red_map_.size(); ++q)
     S.Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
   const SparseCol& A = S.Kff;

@@ -436,12 +436,13 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
         "{} stencils rebuilt, {} ill-posed stencils off, {} detached points; re-equilibrium: {} "
-        "({} Newton iterations, residual {:.3e}; {} bonds broke and {} point stencils went off "
-        "when their stencils inverted during it)",
+        "({} Newton iterations, residual {:.3e}, force balance {:.2e} of the load; {} bonds "
+        "broke and {} point stencils went off when their stencils inverted during it)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
         ok ? "converged" : "FAILED", rep.iterations,
-        rep.residual_history.empty() ? NAN : rep.residual_history.back(), during, during_points);
+        rep.residual_history.empty() ? NAN : rep.residual_history.back(),
+        ok ? solver.force_balance() : NAN, during, during_points);
     if (!ok) {
       log::warn(
           "rupture pass {} at t = {:.6g}: Newton cannot re-equilibrate after {} bonds broke "

@@ -83,6 +83,11 @@ struct BoundaryCondition {
   bool is_traction = false;
   std::array<std::string, 3> value_text;  ///< per component; empty = not given
   std::array<std::function<double(double)>, 3> value;
+  /// `grip: surface` (displacement sets on a cell-centred grid): the prescribed values act on
+  /// the body's face next to the selected points, through the PDDO extrapolation
+  /// u_k + (F̄_k − I) o_k = ū with o_k = (Δx/2) n (docs/solver.md §4, "Grips on the
+  /// surface"); `grip: points` (default) prescribes the points themselves.
+  bool grip_surface = false;
 };
 
 /// `geometry: {shape: model, file: res.h5}`: the points of a pdcg model file (docs/solver.md
@@ -182,6 +187,14 @@ std::string resolved_yaml(const Scene& s);
 /// Point indices selected by a region (throws InputError if none).
 std::vector<int> select(const Scene& s, const solver::Discretization& body,
                         const BoundaryCondition& bc);
+/// Offsets o_k of a `grip: surface` displacement set (docs/solver.md §4, "Grips on the
+/// surface"): (Δx/2) n for every selected point whose grid cell has a face on the set's flat
+/// face (outward normal n, the direction of Σ s_k over the set), 0 for the others. Needs a
+/// cell-centred grid; InputError (with the key's line) otherwise or when the set's points
+/// do not lie on one face of the box.
+std::vector<solver::Vec3> surface_grip_offsets(const Scene& s, const solver::Discretization& body,
+                                               const BoundaryCondition& bc,
+                                               const std::vector<int>& points);
 
 /// Runs the scene: per output step an HDF5 file (results_NNNN.h5) with the XDMF
 /// time series results.xdmf, reactions.csv (dynamic: series.csv) and scene.resolved.yaml

@@ -17,12 +17,18 @@
 /// with their face vectors s_k. The weak form replaces the smeared boundary
 /// term by the surface one:
 ///   f_k = Q_k − P(F̄_k) e_k,   e_k = b_k − s_k,
-/// with F̄_k the PDDO gradient on the point family. The correction vanishes in
-/// the interior (e_k = 0) and in the continuum limit of a smooth field; for
-/// any homogeneous deformation f_k = P s_k exactly, so a uniform state whose
-/// stress meets the tractions is an exact discrete solution (patch test),
-/// boundary layer included. The price: the tangent is unsymmetric in the
-/// boundary-layer rows (UMFPACK / LU).
+/// with F̄_k the PDDO gradient on the point family. One stress per point times
+/// e_k does not conserve linear momentum (Σ_k f_k = −Σ_k P(F̄_k) e_k ≠ 0 unless P
+/// is uniform), so the correction is applied as a bond flux: e_k = Σ_l h_kl with
+/// h_kl = −h_lk on the short bonds of the boundary layer (minimum norm, from a
+/// graph Laplacian solved once), and
+///   f_k = Q_k − Σ_l ½ (P(F̄_k) + P(F̄_l)) h_kl.
+/// Every pair term enters two rows with opposite signs, so Σ_k f_k = 0 for every
+/// state (docs/solver.md §3, "Force balance"). The correction vanishes in the
+/// interior (no flux there); for any homogeneous deformation f_k = P s_k exactly,
+/// so a uniform state whose stress meets the tractions is an exact discrete
+/// solution (patch test), boundary layer included. The price: the tangent is
+/// unsymmetric in the boundary-layer rows (UMFPACK / LU).
 ///
 /// Equilibrium: f(u) = f_ext (applied tractions t* times face areas).
 #pragma once
@@ -77,8 +83,8 @@ class Model {
   /// Matrix-free tangent (docs/solver.md §4, "Matrix-free GMRES"). Internal force f(u) (as
   /// internal_force) and, per energy stencil, the weighted material tangent w_S A(F_S) packed
   /// by its major symmetry A_aJbL = A_bLaJ (hyperelastic materials: d²(d²+1)/2 doubles, 45 in
-  /// 3D, 10 in 2D, instead of the d⁴ the row gather reads), plus, per weak row k, the
-  /// d × d² block Σ_J Ā_aJbL(F̄_k) e_kJ of the boundary correction. K is never assembled and
+  /// 3D, 10 in 2D, instead of the d⁴ the row gather reads), plus, per weak point l, the
+  /// tangent Ā_l = A(F̄_l) of the boundary correction. K is never assembled and
   /// neither the reverse point → stencil index nor the matrix pattern is built. Returns
   /// false if some F is inadmissible. Throws NumericalError if a stencil tangent lacks major
   /// symmetry (a material not derived from an energy).
@@ -86,11 +92,11 @@ class Model {
   /// out = K v with K = ∂f/∂u at the state of the last internal_force_and_operator call,
   /// without K: one fused sweep over the energy stencils,
   ///   out_k = Σ_{S∋k} (w_S A_S : δF_S) G_S^k,   δF_S = Σ_{m∈S} v_m ⊗ G_S^m,
-  /// then −(Ā_k : δF̄_k) e_k on the weak rows and κ v_k on the anchors. Private force
+  /// then −Σ_l (Ā_l : δF̄_l) c_kl on the weak rows and κ v_k on the anchors. Private force
   /// arrays per thread, static schedule, no allocation after the first call. v and out are
   /// full (d·N) vectors; out is resized if needed.
   void apply_tangent(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;
-  /// Bytes of the matrix-free operator's data (packed tangents, weak-row blocks).
+  /// Bytes of the matrix-free operator's data (packed tangents, weak-point tangents).
   std::size_t operator_bytes() const;
 
   /// Point deformation gradients: weighted mean of the energy stencils centred
@@ -101,6 +107,14 @@ class Model {
   std::vector<Mat3> point_family_gradients(const Eigen::VectorXd& u) const;
   /// e_k = b_k − s_k of the weak form (zero in the interior).
   const std::vector<Vec3>& boundary_defect() const { return defect_; }
+  /// The bond flux of the defect: for weak row w (point weak_points()[w]), entries
+  /// c ∈ [flux().begin(w), flux().end(w)) pair the weak point flux().index[c] (its
+  /// position in weak_points()) with the coefficient flux_coefficients()[c] of its stress:
+  /// f_k −= Σ_c P(F̄_l) c_kl; the first entry is the row's own point (½ Σ_l h_kl), the
+  /// others ½ h_kl.
+  const Csr& flux() const { return corr_; }
+  const std::vector<Vec3>& flux_coefficients() const { return corr_coef_; }
+  const std::vector<int>& weak_points() const { return weak_points_; }
   /// b_k = Σ_S w_S G_S^k.
   const std::vector<Vec3>& smeared_normals() const { return smeared_; }
 
@@ -129,6 +143,9 @@ class Model {
   /// without major symmetry.
   bool energy_force_and_tangents(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   bool evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const;
+  void build_defect_flux();
+  /// f_k −= Σ_l P(F̄_l) c_kl for weak row w (Pbar_ filled).
+  void subtract_correction(std::size_t w, Eigen::VectorXd& f) const;
   template <int D>
   bool residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
   void fill_pattern(SparseRow& K) const;
@@ -157,6 +174,10 @@ class Model {
   // Pbar_/Abar_), −1 for interior points (no correction).
   std::vector<int> weak_id_;
   std::vector<int> weak_points_;
+  // Bond flux of the defect (build_defect_flux): per weak row, the weak points whose
+  // stresses enter it and their coefficients.
+  Csr corr_;
+  std::vector<Vec3> corr_coef_;
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   mutable Csr adjacency_;
   mutable std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)
@@ -169,7 +190,7 @@ class Model {
   // Stencil tangents of the assembled tangent and of the matrix-free operator
   // (internal_force_and_tangent, internal_force_and_operator / apply_tangent).
   mutable std::vector<double> Apk_;  // per stencil: w_S A_S, upper triangle of d²×d², row-major
-  mutable std::vector<double> Wk_;   // per weak row: d × d², Σ_J Ā_aJbL e_J
+  mutable std::vector<double> dPw_;  // per weak point: δP = Ā : δF̄ (apply_tangent scratch)
   mutable std::vector<std::vector<double>> mvbuf_;  // per-thread accumulators (threads 1…)
   std::vector<int> anchor_points_;
   std::vector<double> anchor_u_;  // d per anchored point

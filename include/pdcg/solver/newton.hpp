@@ -39,6 +39,13 @@ struct DisplacementSet {
   std::string name;
   std::vector<int> points;
   std::array<std::function<double(double)>, 3> component;  ///< empty = free
+  /// Grip on the body surface (docs/solver.md §4, "Grips on the surface"): per point of
+  /// `points`, the vector o_k from the point to the surface point it stands for (empty, or
+  /// o_k = 0: the point itself is prescribed). A point with o_k ≠ 0 gets, on its prescribed
+  /// components, the constraint
+  ///   u_k + (F̄_k − I) o_k = ū(t)      (first-order PDDO extrapolation to x_k + o_k)
+  /// in place of u_k = ū(t): on a cell-centred grid o_k = (Δx/2) n puts the grip on the face.
+  std::vector<Vec3> surface_offset = {};
 };
 
 /// Nominal (reference-configuration) traction t*(t) on a point set, applied as
@@ -93,6 +100,9 @@ struct StepReport {
   /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
   /// not checked, −2 if the LDLᵀ met a zero pivot (singular tangent).
   int negative_eigenvalues = -1;
+  /// Global force balance after the step: |Σ reactions + Σ applied tractions| relative to the
+  /// load (StaticSolver::force_balance).
+  double balance = 0.0;
 };
 
 class StaticSolver {
@@ -140,6 +150,11 @@ class StaticSolver {
   void prepare_restart();
   /// Reaction (Σ f_int − f_ext over the set's points) of displacement set i.
   Vec3 reaction(std::size_t set) const;
+  /// Global force balance of the current state: |Σ reactions + Σ applied tractions| (each
+  /// prescribed component counted once, plus the Newton residual of the free ones) divided
+  /// by the load, the largest force of a displacement or traction set (docs/solver.md §3).
+  /// sum and load, if given, receive the vector sum and the load.
+  double force_balance(Vec3* sum = nullptr, double* load = nullptr) const;
   const Eigen::VectorXd& internal_force() const { return f_; }
   const std::vector<DisplacementSet>& displacement_sets() const { return dsets_; }
 
@@ -150,6 +165,17 @@ class StaticSolver {
   int tangent_inertia();
   /// Reduced column-major pattern of K_ff and the gather map (direct solvers, inertia).
   void build_reduced();
+  /// Surface grips: row g of the constraint C u = ū, C_g = κ (e_i + Σ_m (o·Ḡ_k^m) e_(m,a))
+  /// from the current point stencil (rebuilt stencils after rupture included).
+  template <class Fn>
+  void grip_row(std::size_t g, Fn&& fn) const;
+  /// R_f: f − f_ext on the free rows, κ (C u − ū(t)) on the grip rows.
+  void reduced_residual(const Eigen::VectorXd& u, const Eigen::VectorXd& f,
+                        const Eigen::VectorXd& fext, double t, Eigen::VectorXd& R) const;
+  /// Replaces the grip rows of K by C (their columns are in the pattern: the point family).
+  void apply_grip_rows(SparseRow& K) const;
+  /// The grip rows of a product: out_i = (C x)_i (matrix-free GMRES).
+  void apply_grip_product(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
 
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
@@ -159,6 +185,11 @@ class StaticSolver {
   std::vector<int> free_index_;  // dof -> free index or −1
   std::vector<int> free_dofs_;
   std::vector<int> prescribed_by_;  // dof -> (set << 2 | component) or −1
+  // Surface grips: prescribed dofs that stay unknowns with a constraint row (free_index_ ≥ 0).
+  std::vector<int> grip_dof_;      // dof of grip g
+  std::vector<Vec3> grip_offset_;  // o_k of grip g
+  std::vector<int> grip_of_dof_;   // dof -> g or −1 (empty without grips)
+  double grip_scale_ = 1.0;        // κ: the constraint rows' scale (a point stiffness)
   Eigen::VectorXd u_, f_;
   double t_ = 0.0;
   int step_ = 0;

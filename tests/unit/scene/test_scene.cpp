@@ -180,3 +180,52 @@ TEST(Scene, SmallRunWritesResultsAndReactions) {
   const auto F = h5.read_double("fields/deformation_gradient");
   EXPECT_NEAR(F[0], 1.5, 1e-9);  // homogeneous state: F₁₁ = λ at every point
 }
+
+TEST(Scene, SurfaceGripsActOnTheFaces) {
+  // The uniaxial block of SmallRunWritesResultsAndReactions with `grip: surface`: the faces
+  // x = 0 and x = 1 (not the point columns at 0.05 and 0.95) move apart by 0.5, so λ = 1.5
+  // and the reaction is the closed form 1.105538 (docs/solver.md §4, "Grips on the surface").
+  std::string text = replace(kContract, "spacing: 0.025", "spacing: 0.1");
+  text = replace(text, "holes: [{center: [0.5, 0.5], radius: 0.2}]", "holes: []");
+  text = replace(text, "cracks: [{from: [0.0, 0.5], to: [0.2, 0.5]}]", "cracks: []");
+  text = replace(text, "displacement: {x: 0.0}}", "displacement: {x: 0.0}, grip: surface}");
+  text = replace(text, "displacement: {x: \"0.5*t\"}}",
+                 "displacement: {x: \"0.5*t\"}, grip: surface}");
+  text = replace(text, "steps: 20", "steps: 2");
+  const auto s = scene::load_scene(write("grips.yaml", text));
+  ASSERT_TRUE(s.boundary[0].grip_surface);
+  EXPECT_FALSE(s.boundary[1].grip_surface);  // the pin: points (default)
+  // the resolved scene keeps the choice
+  const auto r = scene::load_scene(write("grips_resolved.yaml", scene::resolved_yaml(s)));
+  EXPECT_TRUE(r.boundary[2].grip_surface);
+  const fs::path out = fs::temp_directory_path() / "pdcg_scene_test" / "grips";
+  fs::remove_all(out);
+  scene::run_scene(s, out);
+  std::ifstream csv(out / "reactions.csv");
+  std::string line, last;
+  while (std::getline(csv, line)) last = line;
+  std::vector<double> v;
+  std::stringstream ss(last);
+  for (std::string tok; std::getline(ss, tok, ',');) v.push_back(std::stod(tok));
+  ASSERT_EQ(v.size(), 5u);
+  EXPECT_NEAR(v[4], 1.105538, 1e-5);  // the closed form's 7 printed digits
+  const auto F = io::H5Reader(out / "results_0002.h5").read_double("fields/deformation_gradient");
+  EXPECT_NEAR(F[0], 1.5, 1e-9);  // F₁₁ = λ of the faces at every point
+
+  // refused: vertices (their points already lie on the faces), a corner point, a traction set
+  auto refused = [&](const std::string& t, const std::string& what) {
+    const auto sc = scene::load_scene(write("grips_bad.yaml", t));
+    try {
+      scene::run_scene(sc, fs::temp_directory_path() / "pdcg_scene_test" / "grips_bad");
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("grip"), std::string::npos) << e.what();
+    }
+  };
+  refused(replace(text, "spacing: 0.1", "spacing: 0.1\n  nodes: vertices"), "vertices");
+  refused(replace(text, "displacement: {y: 0.0}}", "displacement: {y: 0.0}, grip: surface}"),
+          "a corner point");
+  EXPECT_NE(error_of(replace(text, "traction: [0.0, 0.0]}", "traction: [0.0, 0.0], grip: surface}"))
+                .find("grip"),
+            std::string::npos);
+}

@@ -164,9 +164,11 @@ TEST(DynamicFracture, ReleaseWaveSpeedAndFreeEndVelocity) {
   EXPECT_NEAR(c_meas / c, 1.0, 0.02);
   // 2%: the dispersive ringing behind the front (averaged over half the released zone)
   EXPECT_NEAR(-zone_v / vj, 1.0, 0.02);
-  // 3%: the ringing of the dispersive release is largest at the free end (averaged over the
-  // second half of the run)
-  EXPECT_NEAR(-v_free / vj, 1.0, 0.03);
+  // 5%: the ringing of the dispersive release is largest at the free end (averaged over the
+  // second half of the run); +1.81% with the one-stress-per-point weak-form correction, +4.59%
+  // with the balanced (bond-flux) one — the whole 0.5-high bar is boundary layer (δ = 0.19),
+  // docs/solver.md §3
+  EXPECT_NEAR(-v_free / vj, 1.0, 0.05);
 }
 
 // (b) A pre-cracked plane-stress Neo-Hookean sheet (μ = 1, K = 100, ρ = 1) pulled at its top
