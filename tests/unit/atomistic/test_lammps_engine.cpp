@@ -305,7 +305,9 @@ TEST(LammpsPotential, NativeForceStatesEqualFallbackFiniteDifferences) {
     // the horizon 2 r_c: tersoff R + D = 3.2 Å, sw a σ = 3.77118 Å (the file); the fallback
     // measures it by bisection on dimer energies, which for sw's exp(σ/(r − aσ)) underflow to 0
     // some 3e-3 Å before a σ
-    if (spec.pair_style == "tersoff") EXPECT_NEAR(native->cutoff(), fallback->cutoff(), 1e-7);
+    if (spec.pair_style == "tersoff") {
+      EXPECT_NEAR(native->cutoff(), fallback->cutoff(), 1e-7);
+    }
     EXPECT_NEAR(native->cutoff(), spec.pair_style == "sw" ? 2.0 * 2.0951 * 1.80 : 2.0 * (3.0 + 0.2),
                 1e-12);
     EXPECT_GE(native->cutoff(), fallback->cutoff() - 1e-7);

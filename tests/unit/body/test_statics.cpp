@@ -201,7 +201,7 @@ TEST(Surface, TriclinicPrimitiveCellGivesTheCubicCellsGamma) {
   const Body cubic = fcc_cell(l, a);
   StaticsOptions st;
   st.force_tolerance = 1e-10;
-  for (const Eigen::Vector3d hkl : {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, 0, 0)}) {
+  for (const Eigen::Vector3d& hkl : {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, 0, 0)}) {
     SlabOptions sc, sp;
     sc.normal = hkl;
     sp.normal = Q.transpose() * hkl;
