@@ -351,8 +351,9 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   if (r.exists("potential/file_names")) {
     const auto names = r.read_strings("potential/file_names"),
                contents = r.read_strings("potential/file_contents");
+    need_length("potential/file_contents", contents.size(), names.size());  // one per name
     for (std::size_t k = 0; k < names.size(); ++k)
-      b.potential_files.push_back({names[k], contents.at(k)});
+      b.potential_files.push_back({names[k], contents[k]});
   }
   // statistics
   if (r.exists("statistics")) {

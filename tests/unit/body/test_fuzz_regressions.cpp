@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "pdcg/body/model_file.hpp"
 #include "pdcg/core/error.hpp"
@@ -44,6 +45,51 @@ TEST(FuzzRegression, BodyWithShortBoxDatasetIsRefused) {
     ADD_FAILURE() << "a 2-value box/lo was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("box/lo"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+void write_vlen_strings(hid_t file, const char* path, const std::vector<const char*>& v) {
+  const hsize_t n = v.size();
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t d = H5Dcreate2(file, path, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  ASSERT_GE(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+  H5Dclose(d);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+}  // namespace
+
+// fuzz_h5_struct: a body with two potential file names but one file content. read_body
+// indexed the contents with at(): std::out_of_range escaped the reader (not a pdcg::Error).
+// Now refused with an InputError naming potential/file_contents.
+TEST(FuzzRegression, BodyWithFewerPotentialFileContentsThanNamesIsRefused) {
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      ("pdcg_fuzz_files_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "files.h5";
+  std::filesystem::copy_file(
+      std::string(PDCG_SOURCE_DIR) + "/tests/fuzz/corpus/model_file/lj_body.h5", path,
+      std::filesystem::copy_options::overwrite_existing);
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    H5Ldelete(f, "potential/file_names", H5P_DEFAULT);  // absent in an lj body
+    H5Ldelete(f, "potential/file_contents", H5P_DEFAULT);
+    write_vlen_strings(f, "potential/file_names", {"a.eam", "b.eam"});
+    write_vlen_strings(f, "potential/file_contents", {"only one"});
+    H5Fclose(f);
+  }
+  try {
+    (void)body::read_body(path);
+    ADD_FAILURE() << "two file names with one content were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("potential/file_contents"), std::string::npos) << e.what();
   }
   std::filesystem::remove_all(dir);
 }
