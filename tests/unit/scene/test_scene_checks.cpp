@@ -73,6 +73,26 @@ inertia: {end_time: 1.0}
 initial: {velocity: {x: 0.0, z: "0.01*z"}}
 )";
 
+// Fracture-energy bases: the energy-based rupture rule given G_c, or the surface energy.
+const char* kFractureEnergy = R"(dimension: 2
+geometry: {size: [1.0, 0.5], spacing: 0.1}
+material: {shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+boundary:
+  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: "0.01*t"}}
+effects: [rupture]
+rupture: {criterion: fracture_energy, G_c: 1.5}
+)";
+const char* kSurfaceEnergy = R"(dimension: 2
+geometry: {size: [1.0, 0.5], spacing: 0.1}
+material: {shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+boundary:
+  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: "0.01*t"}}
+effects: [rupture]
+rupture: {criterion: fracture_energy, surface_energy: 0.75}
+)";
+
 fs::path dir() {
   const fs::path d = fs::temp_directory_path() / "pdcg_scene_checks";
   fs::create_directories(d);
@@ -154,6 +174,9 @@ const std::vector<Case>& cases() {
        with(kInt, {"0", "-1"})},
       {kStatic, "critical: 2.5", "critical: {}", "rupture.critical", with(kReal, {"0", "-2"})},
       {kStatic, "max_passes: 5", "max_passes: {}", "rupture.max_passes", with(kInt, {"0"})},
+      {kFractureEnergy, "G_c: 1.5", "G_c: {}", "rupture.G_c", with(kReal, {"0", "-2"})},
+      {kSurfaceEnergy, "surface_energy: 0.75", "surface_energy: {}", "rupture.surface_energy",
+       with(kReal, {"0", "-2"})},
       {kDynamic, "time_step: auto, safety: 0.8", "time_step: {}", "inertia.time_step",
        with(kReal, {"0", "-0.01"})},
       {kDynamic, "safety: 0.8", "safety: {}", "inertia.safety", with(kReal, {"0", "1.5", "-1"})},
@@ -185,12 +208,13 @@ std::string substitute(const Case& c, const std::string& bad) {
 }  // namespace
 
 TEST(SceneChecks, BaseScenesAreValid) {
-  for (const char* base : {kStatic, kDynamic, k3D})
+  for (const char* base : {kStatic, kDynamic, k3D, kFractureEnergy, kSurfaceEnergy})
     EXPECT_NO_THROW(scene::load_scene(write("base.yaml", base))) << base;
 }
 
 TEST(SceneChecks, EveryNumericKeyRefusesBadValuesWithFileLineAndKey) {
-  EXPECT_EQ(cases().size(), 41u);  // one row per numeric rule of the built-in components (scene::number_rules)
+  EXPECT_EQ(cases().size(),
+            43u);  // one row per numeric rule of the built-in components (scene::number_rules)
   for (const auto& c : cases()) {
     ASSERT_EQ(std::string(c.base).find(c.find), std::string(c.base).rfind(c.find))
         << "not unique: " << c.find;
