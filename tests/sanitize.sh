@@ -73,8 +73,12 @@ S=$HERE/sanitizers
 [ -x /usr/lib/llvm-14/bin/llvm-symbolizer ] &&
   export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-/usr/lib/llvm-14/bin/llvm-symbolizer}
 # halt_on_error: the first report ends the process (the test fails); detect_leaks: on, with
-# the third-party leaks of lsan.supp suppressed.
-export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:abort_on_error=0:print_stacktrace=1:detect_leaks=1:detect_stack_use_after_return=0}
+# the third-party leaks of lsan.supp suppressed. intercept_tls_get_addr=0: LLVM 14's record of
+# dynamic TLS blocks misreads glibc 2.36's (Debian 12) and LeakSanitizer's tracer then reads a
+# garbage range and dies ("DTLS 16 at 0x100d-0x40000210f", "Tracer caught signal 11": 3 runs
+# in 3 of ManybodyKernel.TwoThreadsThreadPrivateForces); without it the blocks are plain heap
+# chunks, still scanned, and the same leak reports come out.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:abort_on_error=0:print_stacktrace=1:detect_leaks=1:detect_stack_use_after_return=0:intercept_tls_get_addr=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1:suppressions=$S/ubsan.supp}
 # Leaks fail a test like any report; after the run, a test that failed with leak reports
 # only, none of them with a pdcg frame, is forgiven (below): Debian's Open MPI (under
@@ -114,21 +118,54 @@ grep -E '^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|Total Test time' "$log"
 # Per failed test (ctest -V prefixes its lines with "N: "): a real failure has a sanitizer
 # report other than a leak, a failed assertion, a timeout or a crash, or a leak whose stack
 # has a pdcg frame (a function in namespace pdcg or a file under src/, tests/ or include/).
-verdict=$(awk -v root="$PDCG_ROOT" '
+# LeakSanitizer's own failure ("Tracer caught signal 11 … LeakSanitizer has encountered a
+# fatal error": its stop-the-world thread crashed while suspending the process's threads, a
+# known intermittent fault of the tool with live OpenMP worker threads, about one run in four
+# of a two-thread test here) means the leak check did not happen: that test runs again, up to
+# three times in all, and its verdict is that of the first run the tracer completes.
+verdict_of() {
+  awk -v root="$PDCG_ROOT" '
   match($0, /Test +#[0-9]+: /) && /\*\*\*|Failed|Timeout|Exception|Not Run/ && !/Passed/ {
     n = substr($0, RSTART, RLENGTH); gsub(/[^0-9]/, "", n); failed[n] = $0; next }
   $1 ~ /^[0-9]+:$/ { t = substr($1, 1, length($1) - 1)
     if ($0 ~ /runtime error|ERROR: AddressSanitizer|\[  FAILED  \]|Failure$|terminate called|Segmentation/) real[t] = 1
     if ($0 ~ /ERROR: LeakSanitizer/) { inleak[t] = 1; leak[t] = 1 }
+    if ($0 ~ /LeakSanitizer has encountered a fatal error/) tracer[t] = 1
     if (inleak[t] && ($0 ~ /pdcg::/ || index($0, root "/src/") || index($0, root "/tests/") || index($0, root "/include/"))) { real[t] = 1; ours[t] = 1 }
     if ($0 ~ /SUMMARY: AddressSanitizer/) inleak[t] = 0 }
   END { for (n in failed) {
-      if (real[n] || !leak[n]) print "FAIL " failed[n] (ours[n] ? "  (leak with a pdcg frame)" : "")
-      else print "third-party leaks only, accepted: " failed[n] } }' "$log")
+      if (real[n]) print "FAIL " failed[n] (ours[n] ? "  (leak with a pdcg frame)" : "")
+      else if (tracer[n]) print "RETRY " failed[n]
+      else if (!leak[n]) print "FAIL " failed[n]
+      else print "third-party leaks only, accepted: " failed[n] } }' "$1"
+}
+verdict=$(verdict_of "$log")
+while read -r line; do
+  [ -n "$line" ] || continue
+  name=$(sed -n 's/.*Test *#[0-9]*: \([^ ]*\) .*/\1/p' <<<"$line")
+  v=$line
+  for attempt in 2 3; do
+    echo "sanitize: $name: LeakSanitizer's tracer failed (leak check not done); run $attempt of 3"
+    ctest -V --timeout 1800 -R "^${name//./\\.}\$" >"$B/sanitize-retry.log" 2>&1 || true
+    cat "$B/sanitize-retry.log" >>"$log"
+    v=$(verdict_of "$B/sanitize-retry.log")
+    if [ -z "$v" ]; then v="passed on run $attempt: $name"; break; fi
+    [[ "$v" == RETRY* ]] || break
+  done
+  [[ "$v" == RETRY* ]] && v="FAIL ${v#RETRY }  (LeakSanitizer's tracer failed three times)"
+  verdict=$(grep -vF "$line" <<<"$verdict"; echo "$v")
+done < <(grep '^RETRY ' <<<"$verdict")
 [ -n "$verdict" ] && echo "$verdict"
 if [ "$status" != 0 ] && ! grep -q '^FAIL ' <<<"$verdict" && grep -q 'tests failed' "$log"; then
-  status=0  # every failure was a third-party leak
+  status=0  # every failure was a third-party leak, or passed when run again (tracer fault)
 fi
-grep -q '^FAIL ' <<<"$verdict" && status=1
+if grep -q '^FAIL ' <<<"$verdict"; then
+  status=1
+  # the end of each real failure's output, so that a CI log shows why
+  grep '^FAIL ' <<<"$verdict" | sed -n 's/.*Test *#\([0-9]*\):.*/\1/p' | while read -r n; do
+    echo "---- test #$n, last lines of its output:"
+    grep "^$n: " "$log" | tail -25
+  done
+fi
 echo "sanitize: log $log"
 exit "$status"
