@@ -14,6 +14,7 @@
 #include <random>
 #include <sstream>
 
+#include "../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/dynamics/dynamics.hpp"
@@ -28,27 +29,10 @@ using atomistic::Atoms;
 
 namespace {
 
-/// FCC (nbasis 4) or diamond (nbasis 8) lattice, perturbed.
+/// FCC (nbasis 4) or diamond (nbasis 8) lattice of n³ cells, coordinates displaced by up to
+/// noise·a.
 Atoms fcc(int n, double a, double noise, unsigned seed, int nbasis = 4) {
-  Atoms at;
-  at.box.hi = {n * a, n * a, n * a};
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
-                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
-                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (int q = 0; q < nbasis; ++q) {
-          const auto& b = basis[q];
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          for (int c = 0; c < 3; ++c)
-            at.x.push_back(((c == 0 ? i : c == 1 ? j : k) + b[c]) * a + noise * a * u(rng));
-        }
-  return at;
+  return test::cubic_lattice(n, n, n, a, nbasis, noise * a, false, seed);
 }
 
 struct MdSetup {
