@@ -64,4 +64,19 @@ inline void add_pair_force(SweepCentre& c, double* f, std::int32_t j, double g, 
   f[3 * j + 2] -= g * dz;
 }
 
+/// Appends partner j and its Y = (dx, dy, dz) to the kernel's short arrays of the centre
+/// (sj[c.kept], sd[3 c.kept ..]); returns its slot, or −1 when the arrays hold `capacity`
+/// partners already (nothing written).
+inline std::int64_t keep_partner(SweepCentre& c, std::int32_t j, double dx, double dy, double dz,
+                                 std::int32_t* sj, double* sd, std::int64_t capacity) {
+  const std::int64_t ns = c.kept;
+  if (ns == capacity) return -1;
+  sj[ns] = j;
+  sd[3 * ns] = dx;
+  sd[3 * ns + 1] = dy;
+  sd[3 * ns + 2] = dz;
+  c.kept = ns + 1;
+  return ns;
+}
+
 }  // namespace pdcg::atomistic::detail

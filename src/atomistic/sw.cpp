@@ -216,15 +216,10 @@ class StillingerWeber final : public Potential {
         add_pair_force(centre, f, j, -fpair, dx, dy, dz);  // (dφ2/dr)/r = −fpair
       }
       if (!threebody_) return true;
-      const std::int64_t ns = centre.kept;
-      if (ns == kMaxNear) return false;
-      sj[ns] = j;
-      sd[3 * ns] = dx;
-      sd[3 * ns + 1] = dy;
-      sd[3 * ns + 2] = dz;
+      const std::int64_t ns = keep_partner(centre, j, dx, dy, dz, sj, sd, kMaxNear);
+      if (ns < 0) return false;
       srsq[ns] = rsq;
       sr[ns] = std::sqrt(rsq);
-      centre.kept = ns + 1;
       return true;
     };
     auto triplets = [&](SweepCentre& centre) {

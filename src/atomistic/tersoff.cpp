@@ -338,12 +338,8 @@ class Tersoff final : public Potential {
         }
         add_pair_force(centre, f, j, dv / r, dx, dy, dz);
       }
-      const std::int64_t ns = centre.kept;
-      if (ns == kMaxNear) return false;
-      sj[ns] = j;
-      sd[3 * ns] = dx;
-      sd[3 * ns + 1] = dy;
-      sd[3 * ns + 2] = dz;
+      const std::int64_t ns = keep_partner(centre, j, dx, dy, dz, sj, sd, kMaxNear);
+      if (ns < 0) return false;
       sr[ns] = r;
       const double ir = 1.0 / r;
       sir[ns] = ir;
@@ -351,7 +347,6 @@ class Tersoff final : public Potential {
       su[3 * ns + 1] = dy * ir;
       su[3 * ns + 2] = dz * ir;
       srt[ns] = rt;
-      centre.kept = ns + 1;
       return true;
     };
     auto bond_orders = [&](SweepCentre& centre) {
