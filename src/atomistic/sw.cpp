@@ -19,6 +19,7 @@
 #include "manybody_geometry.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
+#include "short_list_sweep.hpp"
 
 namespace pdcg::atomistic::detail {
 
@@ -187,61 +188,44 @@ class StillingerWeber final : public Potential {
     const int* type = s.type;
     const double* xr = s.reference;
     double energy = 0.0;
-    for (std::int64_t i = k0; i < k1; ++i) {
-      const int ti = type[i];
-      const double xi = y[3 * i], yi = y[3 * i + 1], zi = y[3 * i + 2];
-      const std::int32_t* nb = s.neighbor + s.offset[i];
-      const std::int32_t cnt = s.count[i], own = s.owned[i];
-      double fi[3] = {0.0, 0.0, 0.0};
-      std::int64_t ns = 0;
-      for (std::int32_t q = 0; q < cnt; ++q) {
-        const std::int32_t j = nb[q];
-        const double dx = y[3 * j] - xi, dy = y[3 * j + 1] - yi, dz = y[3 * j + 2] - zi;
-        const double rsq = dx * dx + dy * dy + dz * dz;
-        if (rsq >= cutmaxsq_) continue;
-        if (q < own) {
-          const int tj = type[j];
-          const int pij = pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tj)];
-          const int pji = pidx_[static_cast<std::size_t>((tj * n1_ + ti) * n1_ + ti)];
-          double fpair = 0.0;  // −φ2'/r of the pair (Σ of the two halves)
-          if (symmetric2_ || pij == pji) {
-            const Param& p = params_[static_cast<std::size_t>(pij)];
+    auto partner = [&](SweepCentre& centre, std::int32_t j, double dx, double dy, double dz,
+                       double rsq, bool owned) {
+      if (owned) {
+        const int ti = centre.type, tj = type[j];
+        const int pij = pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tj)];
+        const int pji = pidx_[static_cast<std::size_t>((tj * n1_ + ti) * n1_ + ti)];
+        double fpair = 0.0;  // −φ2'/r of the pair (Σ of the two halves)
+        if (symmetric2_ || pij == pji) {
+          const Param& p = params_[static_cast<std::size_t>(pij)];
+          if (rsq < p.cutsq) {
+            double eng;
+            twobody(p, rsq, fpair, eng);
+            energy += eng;
+          }
+        } else {
+          for (const int pk : {pij, pji}) {
+            const Param& p = params_[static_cast<std::size_t>(pk)];
             if (rsq < p.cutsq) {
-              double eng;
-              twobody(p, rsq, fpair, eng);
-              energy += eng;
-            }
-          } else {
-            for (const int pk : {pij, pji}) {
-              const Param& p = params_[static_cast<std::size_t>(pk)];
-              if (rsq < p.cutsq) {
-                double ff, eng;
-                twobody(p, rsq, ff, eng);
-                fpair += 0.5 * ff;
-                energy += 0.5 * eng;
-              }
+              double ff, eng;
+              twobody(p, rsq, ff, eng);
+              fpair += 0.5 * ff;
+              energy += 0.5 * eng;
             }
           }
-          // fpair = −φ2'/r, Y = y_j − y_i: f_i = −fpair Y, f_j = +fpair Y
-          fi[0] -= fpair * dx;
-          fi[1] -= fpair * dy;
-          fi[2] -= fpair * dz;
-          f[3 * j] += fpair * dx;
-          f[3 * j + 1] += fpair * dy;
-          f[3 * j + 2] += fpair * dz;
         }
-        if (!threebody_) continue;
-        if (ns == kMaxNear) {
-          applicable = false;
-          return energy;
-        }
-        sj[ns] = j;
-        sd[3 * ns] = dx;
-        sd[3 * ns + 1] = dy;
-        sd[3 * ns + 2] = dz;
-        srsq[ns] = rsq;
-        sr[ns++] = std::sqrt(rsq);
+        add_pair_force(centre, f, j, -fpair, dx, dy, dz);  // (dφ2/dr)/r = −fpair
       }
+      if (!threebody_) return true;
+      const std::int64_t ns = keep_partner(centre, j, dx, dy, dz, sj, sd, kMaxNear);
+      if (ns < 0) return false;
+      srsq[ns] = rsq;
+      sr[ns] = std::sqrt(rsq);
+      return true;
+    };
+    auto triplets = [&](SweepCentre& centre) {
+      const int ti = centre.type;
+      const std::int64_t ns = centre.kept;
+      double* fi = centre.f;
       // per partner within its (i, j, j) cutoff: unit vector, 1/r, and the radial factor of
       // φ3, exp(γσ/(r − aσ)) with its log-derivative (PairSW::threebody evaluates these per
       // triplet; they depend on the pair only)
@@ -312,10 +296,8 @@ class StillingerWeber final : public Potential {
         fjp[1] += fj[1];
         fjp[2] += fj[2];
       }
-      f[3 * i] += fi[0];
-      f[3 * i + 1] += fi[1];
-      f[3 * i + 2] += fi[2];
-    }
+    };
+    if (!sweep_short_lists(s, k0, k1, y, cutmaxsq_, f, partner, triplets)) applicable = false;
     return energy;
   }
 

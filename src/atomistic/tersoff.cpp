@@ -23,6 +23,7 @@
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/parse.hpp"
+#include "short_list_sweep.hpp"
 
 namespace pdcg::atomistic::detail {
 
@@ -315,60 +316,43 @@ class Tersoff final : public Potential {
     double energy = 0.0;
     Partials1 d1;
     Partials2 d2;
-    for (std::int64_t i = k0; i < k1; ++i) {
-      const int ti = type[i];
-      const double xi = y[3 * i], yi = y[3 * i + 1], zi = y[3 * i + 2];
-      const std::int32_t* nb = s.neighbor + s.offset[i];
-      const std::int32_t cnt = s.count[i], own = s.owned[i];
-      double fi[3] = {0.0, 0.0, 0.0};
-      std::int64_t ns = 0;
-      for (std::int32_t q = 0; q < cnt; ++q) {
-        const std::int32_t j = nb[q];
-        const double dx = y[3 * j] - xi, dy = y[3 * j + 1] - yi, dz = y[3 * j + 2] - zi;
-        const double rsq = dx * dx + dy * dy + dz * dz;
-        if (rsq >= reachsq_) continue;
-        const double r = std::sqrt(rsq), rt = r + shift_;
-        if (rt * rt >= cutmaxsq_) continue;
-        if (q < own) {  // repulsive V_R(r̃), ½ with the entry of each end
-          const int tj = type[j];
-          const int pij = pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tj)];
-          const int pji = pidx_[static_cast<std::size_t>((tj * n1_ + ti) * n1_ + ti)];
-          const bool once = pij == pji || symmetric_repulsive_;
-          double dv = 0.0;  // dV_R/dr̃ of the pair
-          for (const int pk : {pij, pji}) {
-            const Param& p = params_[static_cast<std::size_t>(pk)];
-            const double w = once ? 1.0 : 0.5;
-            if (rt * rt < p.cutsq) {
-              double v1, v2;
-              energy += w * repulsive<false>(p, rt, v1, v2);
-              dv += w * v1;
-            }
-            if (once) break;
+    auto partner = [&](SweepCentre& centre, std::int32_t j, double dx, double dy, double dz,
+                       double rsq, bool owned) {
+      const double r = std::sqrt(rsq), rt = r + shift_;
+      if (rt * rt >= cutmaxsq_) return true;
+      if (owned) {  // repulsive V_R(r̃), ½ with the entry of each end
+        const int ti = centre.type, tj = type[j];
+        const int pij = pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tj)];
+        const int pji = pidx_[static_cast<std::size_t>((tj * n1_ + ti) * n1_ + ti)];
+        const bool once = pij == pji || symmetric_repulsive_;
+        double dv = 0.0;  // dV_R/dr̃ of the pair
+        for (const int pk : {pij, pji}) {
+          const Param& p = params_[static_cast<std::size_t>(pk)];
+          const double w = once ? 1.0 : 0.5;
+          if (rt * rt < p.cutsq) {
+            double v1, v2;
+            energy += w * repulsive<false>(p, rt, v1, v2);
+            dv += w * v1;
           }
-          const double fpair = dv / r;  // Y = y_j − y_i: f_j = −fpair Y, f_i = +fpair Y
-          fi[0] += fpair * dx;
-          fi[1] += fpair * dy;
-          fi[2] += fpair * dz;
-          f[3 * j] -= fpair * dx;
-          f[3 * j + 1] -= fpair * dy;
-          f[3 * j + 2] -= fpair * dz;
+          if (once) break;
         }
-        if (ns == kMaxNear) {
-          applicable = false;
-          return energy;
-        }
-        sj[ns] = j;
-        sd[3 * ns] = dx;
-        sd[3 * ns + 1] = dy;
-        sd[3 * ns + 2] = dz;
-        sr[ns] = r;
-        const double ir = 1.0 / r;
-        sir[ns] = ir;
-        su[3 * ns] = dx * ir;
-        su[3 * ns + 1] = dy * ir;
-        su[3 * ns + 2] = dz * ir;
-        srt[ns++] = rt;
+        add_pair_force(centre, f, j, dv / r, dx, dy, dz);
       }
+      const std::int64_t ns = keep_partner(centre, j, dx, dy, dz, sj, sd, kMaxNear);
+      if (ns < 0) return false;
+      sr[ns] = r;
+      const double ir = 1.0 / r;
+      sir[ns] = ir;
+      su[3 * ns] = dx * ir;
+      su[3 * ns + 1] = dy * ir;
+      su[3 * ns + 2] = dz * ir;
+      srt[ns] = rt;
+      return true;
+    };
+    auto bond_orders = [&](SweepCentre& centre) {
+      const int ti = centre.type;
+      const std::int64_t ns = centre.kept;
+      double* fi = centre.f;
       for (std::int64_t a = 0; a < ns; ++a) {
         const std::int32_t j = sj[a];
         const int tj = type[j];
@@ -440,10 +424,8 @@ class Tersoff final : public Potential {
           fi[c] += gU[c];
         }
       }
-      f[3 * i] += fi[0];
-      f[3 * i + 1] += fi[1];
-      f[3 * i + 2] += fi[2];
-    }
+    };
+    if (!sweep_short_lists(s, k0, k1, y, reachsq_, f, partner, bond_orders)) applicable = false;
     return energy;
   }
 

@@ -178,6 +178,30 @@ struct CauchyBorn::Scratch {
   }
 };
 
+namespace {
+/// The family's tangent contracted with its reference bonds, M_b = Σ_c K_bc ξ_c
+/// (M[27 b + 3(3i + k) + L] = Σ_c K_bc,ik ξ_c,L, from zero; n²·27), skipping the zero
+/// off-diagonal blocks of pair potentials; block(b, c, K_bc) is called after each block used
+/// (b outer, c inner).
+template <class Block>
+void contract_tangent(const double* K, const double* xi, std::int64_t n, double* M, Block&& block) {
+  std::fill(M, M + 27 * n, 0.0);
+  for (std::int64_t b = 0; b < n; ++b) {
+    double* mb = M + 27 * b;
+    for (std::int64_t c = 0; c < n; ++c) {
+      const double* kb = K + 9 * (b * n + c);
+      if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 && kb[2] == 0.0 &&
+          kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
+        continue;  // pair potentials: only diagonal blocks
+      const double* xc = xi + 3 * c;
+      for (int ik = 0; ik < 9; ++ik)
+        for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
+      block(b, c, kb);
+    }
+  }
+}
+}  // namespace
+
 void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, Scratch& s,
                         double& psi, double* pk, double* ak) const {
   const auto& fam = body_.families;
@@ -212,19 +236,8 @@ void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, 
         pk[3 * i + J] += s.t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
   if (!tangent) return;
   pot.force_state_tangent(f, s.K.data(), s.work.data());
-  std::fill(s.M.begin(), s.M.begin() + 27 * n, 0.0);
-  for (std::int64_t b = 0; b < n; ++b) {
-    double* mb = s.M.data() + 27 * b;
-    for (std::int64_t c = 0; c < n; ++c) {
-      const double* kb = s.K.data() + 9 * (b * n + c);
-      if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 && kb[2] == 0.0 &&
-          kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
-        continue;  // pair potentials: only diagonal blocks
-      const double* xc = xi + 3 * c;
-      for (int ik = 0; ik < 9; ++ik)
-        for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
-    }
-  }
+  // M_b,ikL = Σ_c K_bc,ik ξ_c,L, then A_iJkL = Σ_b ξ_b,J M_b,ikL (n·81)
+  contract_tangent(s.K.data(), xi, n, s.M.data(), [](std::int64_t, std::int64_t, const double*) {});
   std::fill(ak, ak + 81, 0.0);
   for (std::int64_t b = 0; b < n; ++b) {
     const double* mb = s.M.data() + 27 * b;
@@ -305,32 +318,22 @@ void CauchyBorn::family_shifted(std::size_t slot, const Eigen::Matrix3d& F, cons
   if (!tangent) return;
   pot.force_state_tangent(f, s.K.data(), s.work.data());
   const auto m = static_cast<std::size_t>(3 * lattice_.basis);
-  std::fill(s.M.begin(), s.M.begin() + 27 * n, 0.0);
-  for (std::int64_t b = 0; b < n; ++b) {
-    double* mb = s.M.data() + 27 * b;
-    const int cb = site[1 + b];
-    for (std::int64_t c = 0; c < n; ++c) {
-      const double* kb = s.K.data() + 9 * (b * n + c);
-      if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 && kb[2] == 0.0 &&
-          kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
-        continue;  // pair potentials: only diagonal blocks
-      const double* xc = xi + 3 * c;
-      for (int ik = 0; ik < 9; ++ik)
-        for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
-      // A_ss: Σ_bc d_b,q d_c,q' K_bc (d_b = +1 at the partner's site, −1 at the own site)
-      const int cc = site[1 + c];
-      if (cb == a && cc == a) continue;  // both bonds within one site: no relative shift
-      const int rows[2] = {cb, a}, cols[2] = {cc, a};
-      for (int ri = 0; ri < 2; ++ri)
-        for (int ci = 0; ci < 2; ++ci) {
-          const double sg = w * ((ri == ci) ? 1.0 : -1.0);
-          for (int i = 0; i < 3; ++i)
-            for (int kk = 0; kk < 3; ++kk)
-              out.Ass[static_cast<std::size_t>(3 * rows[ri] + i) * m +
-                      static_cast<std::size_t>(3 * cols[ci] + kk)] += sg * kb[3 * i + kk];
-        }
-    }
-  }
+  // M_b as in family(); with each block K_bc, A_ss += Σ_bc d_b,q d_c,q' K_bc (d_b = +1 at the
+  // partner's site, −1 at the own site)
+  contract_tangent(
+      s.K.data(), xi, n, s.M.data(), [&](std::int64_t b, std::int64_t c, const double* kb) {
+        const int cb = site[1 + b], cc = site[1 + c];
+        if (cb == a && cc == a) return;  // both bonds within one site: no relative shift
+        const int rows[2] = {cb, a}, cols[2] = {cc, a};
+        for (int ri = 0; ri < 2; ++ri)
+          for (int ci = 0; ci < 2; ++ci) {
+            const double sg = w * ((ri == ci) ? 1.0 : -1.0);
+            for (int i = 0; i < 3; ++i)
+              for (int kk = 0; kk < 3; ++kk)
+                out.Ass[static_cast<std::size_t>(3 * rows[ri] + i) * m +
+                        static_cast<std::size_t>(3 * cols[ci] + kk)] += sg * kb[3 * i + kk];
+          }
+      });
   for (std::int64_t b = 0; b < n; ++b) {
     const double* mb = s.M.data() + 27 * b;
     const double* xb = xi + 3 * b;
@@ -463,83 +466,20 @@ void CauchyBorn::require_clamped(const char* what) const {
 
 void CauchyBorn::per_atom(const Eigen::Matrix3d& F, bool tangent, std::vector<double>& psi,
                           std::vector<double>& p, std::vector<double>& a) const {
-  const auto& fam = body_.families;
-  const auto& pot = *body_.potential;
   const auto N = static_cast<std::int64_t>(body_.size());
   psi.assign(static_cast<std::size_t>(N), 0.0);
   p.assign(static_cast<std::size_t>(9 * N), 0.0);
   a.assign(tangent ? static_cast<std::size_t>(81 * N) : 0, 0.0);
-  std::int64_t nmax = 0;
-  for (std::int64_t k = 0; k < N; ++k)
-    nmax = std::max(nmax, fam.offset[static_cast<std::size_t>(k + 1)] -
-                              fam.offset[static_cast<std::size_t>(k)]);
   ParallelExceptions errors;  // a potential may refuse a strained configuration
 #pragma omp parallel
   {
-    // per-thread work arrays, sized once for the largest family
-    std::vector<double> Y(static_cast<std::size_t>(3 * nmax)),
-        t(static_cast<std::size_t>(3 * nmax)), xis(static_cast<std::size_t>(3 * nmax));
-    std::vector<int> nt(static_cast<std::size_t>(nmax));
-    std::vector<double> K, work, M;
-    if (tangent) {
-      K.resize(static_cast<std::size_t>(9 * nmax * nmax));
-      work.resize(atomistic::Potential::tangent_workspace(nmax));
-      M.resize(static_cast<std::size_t>(27 * nmax));
-    }
+    Scratch scratch;  // per thread, sized once for the largest family
+    scratch.size(nmax_, tangent);
 #pragma omp for schedule(dynamic, 16)
     for (std::int64_t k = 0; k < N; ++k) errors.capture([&] {
       if (representative_[static_cast<std::size_t>(k)] != k) return;
-      const std::int64_t b0 = fam.offset[static_cast<std::size_t>(k)];
-      const std::int64_t n = fam.offset[static_cast<std::size_t>(k + 1)] - b0;
-      atomistic::family_bond_vectors(fam, body_.x, static_cast<std::size_t>(k), xis.data());
-      const double* xi = xis.data();
-      for (std::int64_t b = 0; b < n; ++b) {
-        const auto bb = static_cast<std::size_t>(b);
-        nt[bb] =
-            body_.type[static_cast<std::size_t>(fam.neighbor[static_cast<std::size_t>(b0 + b)])];
-        for (int i = 0; i < 3; ++i)
-          Y[3 * bb + static_cast<std::size_t>(i)] =
-              F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2];
-      }
-      atomistic::FamilyState f;
-      f.type = body_.type[static_cast<std::size_t>(k)];
-      f.size = n;
-      f.neighbor_type = nt.data();
-      f.bond = Y.data();
-      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
-      psi[static_cast<std::size_t>(k)] = pot.force_state(f, t.data());
-      double* pk = p.data() + 9 * k;
-      for (std::int64_t b = 0; b < n; ++b)
-        for (int i = 0; i < 3; ++i)
-          for (int J = 0; J < 3; ++J)
-            pk[3 * i + J] += t[static_cast<std::size_t>(3 * b + i)] * xi[3 * b + J];
-      if (!tangent) return;
-      pot.force_state_tangent(f, K.data(), work.data());
-      // M_b,ikL = Σ_c K_bc,ik ξ_c,L  (n²·27), then A_iJkL += Σ_b ξ_b,J M_b,ikL  (n·81)
-      std::fill(M.begin(), M.begin() + 27 * n, 0.0);
-      for (std::int64_t b = 0; b < n; ++b) {
-        double* mb = M.data() + 27 * b;
-        for (std::int64_t c = 0; c < n; ++c) {
-          const double* kb = K.data() + 9 * (b * n + c);
-          if (b != c && kb[0] == 0.0 && kb[4] == 0.0 && kb[8] == 0.0 && kb[1] == 0.0 &&
-              kb[2] == 0.0 && kb[3] == 0.0 && kb[5] == 0.0 && kb[6] == 0.0 && kb[7] == 0.0)
-            continue;  // pair potentials: only diagonal blocks
-          const double* xc = xi + 3 * c;
-          for (int ik = 0; ik < 9; ++ik)
-            for (int L = 0; L < 3; ++L) mb[3 * ik + L] += kb[ik] * xc[L];
-        }
-      }
-      double* ak = a.data() + 81 * k;
-      for (std::int64_t b = 0; b < n; ++b) {
-        const double* mb = M.data() + 27 * b;
-        const double* xb = xi + 3 * b;
-        for (int i = 0; i < 3; ++i)
-          for (int J = 0; J < 3; ++J)
-            for (int kk = 0; kk < 3; ++kk)
-              for (int L = 0; L < 3; ++L)
-                ak[(3 * i + J) * 9 + 3 * kk + L] += xb[J] * mb[3 * (3 * i + kk) + L];
-      }
+      family(k, F, tangent, scratch, psi[static_cast<std::size_t>(k)], p.data() + 9 * k,
+             tangent ? a.data() + 81 * k : nullptr);
     });
   }
   errors.rethrow();

@@ -88,6 +88,50 @@ run() {
   "$PDCG" md "$body" --steps "$steps" --dt "$dt" "$@" --dump "md_$name.dump" --every "$steps" 2> /dev/null
   (cd "lmp_$name" && lmp -in in.model -var dump_every "$steps" -log none -screen none)
 }
+# native <name> <body> <md run> <steps> <dt> <velocity options...>: export with --pair native, lmp,
+# and compare with the trajectory of the `pdcg md` run <md run> to 1e-10 (round-off only)
+native() {
+  local name=$1 body=$2 md=$3 steps=$4 dt=$5; shift 5
+  "$PDCG" export-lammps "$body" -o "lmp_$name" --pair native --dt "$dt" --steps "$steps" "$@" > /dev/null
+  (cd "lmp_$name" && lmp -in in.model -var dump_every "$steps" -log none -screen none)
+  python3 compare.py "$name" "md_$md.dump" "lmp_$name/trajectory.dump" 1e-10
+}
+# check <name> <tol>: compare.py on the dumps of `run <name>`
+check() { python3 compare.py "$1" "md_$1.dump" "lmp_$1/trajectory.dump" "$2"; }
+# lammps_data <stem>: runs the LAMMPS script on stdin as in.<stem> (it writes <stem>.data)
+lammps_data() {
+  cat > "in.$1"
+  lmp -in "in.$1" -log none -screen none
+}
+# fcc_data <stem> <units> <lattice constant> <mass 1> [<mass 2> <fraction> <seed>]: a periodic
+# 3×3×3-cell FCC box written to <stem>.data; with a second type, that random fraction of the
+# atoms (LAMMPS's set type/fraction with that seed) turned to type 2
+fcc_data() {
+  local stem=$1 units=$2 a=$3 mass1=$4 types=1 second=""
+  if [ $# -eq 7 ]; then
+    types=2
+    second="set type 1 type/fraction 2 $6 $7
+mass 2 $5"
+  fi
+  lammps_data "$stem" <<LMP
+units $units
+atom_style atomic
+lattice fcc $a
+region box block 0 3 0 3 0 3
+create_box $types box
+create_atoms 1 box
+mass 1 $mass1
+$second
+write_data $stem.data
+LMP
+}
+# pd_body <data> <stem> <potential> <atoms2pd options...>: atoms2pd to <stem>.h5, rescaled by
+# ε = 2 to <stem>2.h5
+pd_body() {
+  local data=$1 stem=$2 potential=$3; shift 3
+  "$PDCG" -q atoms2pd --input "$data" --potential "$potential" "$@" -o "$stem.h5"
+  "$PDCG" -q rescale "$stem.h5" --factor 2 -o "${stem}2.h5"
+}
 
 # ---- chain: 32 atoms at the LJ minimum spacing along x, periodic x, free y z
 python3 - <<'PY'
@@ -99,13 +143,11 @@ with open("chain.data", "w") as f:
         f.write(f"{i + 1} 1 {i * h!r} 0 0\n")
 PY
 printf 'units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n' > lj25.in
-"$PDCG" -q atoms2pd --input chain.data --potential lj25.in --dimension 1 --boundary "p f f" \
-  --family-cutoff 3.0 -o chain.h5
-"$PDCG" -q rescale chain.h5 --factor 2 -o chain2.h5
+pd_body chain.data chain lj25.in --dimension 1 --boundary "p f f" --family-cutoff 3.0
 run chain_small chain2.h5 1000 0.005 --temperature 0.05 --seed 7
 grep -q "pair_style table spline" "lmp_chain_small/model.pair"
 # 1e-8: the acceptance bound; tabulation error 1e-10 (stated in the export) and round-off
-python3 compare.py chain_small md_chain_small.dump lmp_chain_small/trajectory.dump 1e-8
+check chain_small 1e-8
 # the tabulation error as LAMMPS interpolates (pair_write) against the closed form of the rescaled
 # LJ, φ_ε(r) = ε^d 4[(σ/(r/ε))^12 − (σ/(r/ε))^6] with ε = 2, d = 1 (independent of pdcg)
 read -r rlo rcut < <(awk '/^table PAIR_1_1/ {gsub(",", ""); print $7, $9}' export_chain_small.txt)
@@ -140,27 +182,19 @@ PY
 
 # the same chain with lj/cut written natively (ε_LJ·ε^d, σ·ε, r_c·ε): no tabulation error, so the
 # difference is the round-off of evaluating φ(r/ε) vs the rescaled coefficients (1e-10 bound)
-"$PDCG" export-lammps chain2.h5 -o lmp_chain_native --pair native --dt 0.005 --steps 1000 \
-  --temperature 0.05 --seed 7 > /dev/null
+native chain_native chain2.h5 chain_small 1000 0.005 --temperature 0.05 --seed 7
 grep -q "^pair_style lj/cut 5$" lmp_chain_native/model.pair
-(cd lmp_chain_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
-python3 compare.py chain_native md_chain_small.dump lmp_chain_native/trajectory.dump 1e-10
 
 # morse (D0·ε^d, α/ε, r0·ε, shifted): the chain as a table and natively
 printf 'units lj\npair_style morse 2.5\npair_coeff 1 1 1.0 4.0 1.1\npair_modify shift yes\nmass 1 1.0\n' > morse.in
-"$PDCG" -q atoms2pd --input chain.data --potential morse.in --dimension 1 --boundary "p f f" \
-  --family-cutoff 3.0 -o morse.h5
-"$PDCG" -q rescale morse.h5 --factor 2 -o morse2.h5
+pd_body chain.data morse morse.in --dimension 1 --boundary "p f f" --family-cutoff 3.0
 run morse morse2.h5 1000 0.005 --temperature 0.05 --seed 7
-python3 compare.py morse md_morse.dump lmp_morse/trajectory.dump 1e-8
-"$PDCG" export-lammps morse2.h5 -o lmp_morse_native --pair native --dt 0.005 --steps 1000 \
-  --temperature 0.05 --seed 7 > /dev/null
+check morse 1e-8
+native morse_native morse2.h5 morse 1000 0.005 --temperature 0.05 --seed 7
 grep -q "^pair_coeff 1 1 2 2 2.2000000000000002$" lmp_morse_native/model.pair
-(cd lmp_morse_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
-python3 compare.py morse_native md_morse.dump lmp_morse_native/trajectory.dump 1e-10
 
 # ---- FCC LJ bar, free x y, periodic z
-cat > in.bar <<'LMP'
+lammps_data bar <<'LMP'
 units lj
 atom_style atomic
 boundary f f p
@@ -171,14 +205,12 @@ create_atoms 1 box
 mass 1 1.0
 write_data bar.data
 LMP
-lmp -in in.bar -log none -screen none
-"$PDCG" -q atoms2pd --input bar.data --potential lj25.in --boundary "f f p" --family-cutoff 2.9 -o bar.h5
-"$PDCG" -q rescale bar.h5 --factor 2 -o bar2.h5
+pd_body bar.data bar lj25.in --boundary "f f p" --family-cutoff 2.9
 run fcc_bar bar2.h5 1000 0.005 --temperature 0.05 --seed 11
-python3 compare.py fcc_bar md_fcc_bar.dump lmp_fcc_bar/trajectory.dump 1e-8
+check fcc_bar 1e-8
 
 # ---- 2D: triangular LJ film (dimension 2, periodic x y), ε = 2
-cat > in.film <<'LMP'
+lammps_data film <<'LMP'
 units lj
 dimension 2
 atom_style atomic
@@ -189,16 +221,13 @@ create_atoms 1 box
 mass 1 1.0
 write_data film.data
 LMP
-lmp -in in.film -log none -screen none
-"$PDCG" -q atoms2pd --input film.data --potential lj25.in --dimension 2 --boundary "p p p" \
-  --family-cutoff 2.9 -o film.h5
-"$PDCG" -q rescale film.h5 --factor 2 -o film2.h5
+pd_body film.data film lj25.in --dimension 2 --boundary "p p p" --family-cutoff 2.9
 run film_2d film2.h5 1000 0.005 --temperature 0.05 --seed 2
 grep -q "dimension 2" lmp_film_2d/in.model
-python3 compare.py film_2d md_film_2d.dump lmp_film_2d/trajectory.dump 1e-8
+check film_2d 1e-8
 
 # ---- triclinic periodic box (FCC LJ, xy tilt of one lattice constant, perturbed), ε = 2
-cat > in.tri <<'LMP'
+lammps_data tri <<'LMP'
 units lj
 atom_style atomic
 lattice fcc 1.0
@@ -209,86 +238,41 @@ mass 1 1.0
 displace_atoms all random 0.02 0.02 0.02 4711
 write_data tri.data
 LMP
-lmp -in in.tri -log none -screen none
-"$PDCG" -q atoms2pd --input tri.data --potential lj25.in --family-cutoff 2.9 -o tri.h5
-"$PDCG" -q rescale tri.h5 --factor 2 -o tri2.h5
+pd_body tri.data tri lj25.in --family-cutoff 2.9
 run triclinic tri2.h5 1000 0.005 --temperature 0.05 --seed 2
 grep -q "xy xz yz" lmp_triclinic/model.data
-python3 compare.py triclinic md_triclinic.dump lmp_triclinic/trajectory.dump 1e-8
+check triclinic 1e-8
 
 # ---- two types: random binary LJ (lj/cut, mixed arithmetic, shifted, a shorter 2-2 cutoff) on the
 # FCC lattice, periodic; tables of three type pairs with their own cutoffs, and the native form
-cat > in.bin <<'LMP'
-units lj
-atom_style atomic
-lattice fcc 1.0
-region box block 0 3 0 3 0 3
-create_box 2 box
-create_atoms 1 box
-set type 1 type/fraction 2 0.4 977
-mass 1 1.0
-mass 2 2.0
-write_data bin.data
-LMP
-lmp -in in.bin -log none -screen none
+fcc_data bin lj 1.0 1.0 2.0 0.4 977
 printf 'units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\npair_coeff 2 2 0.8 0.95 2.2\npair_modify mix arithmetic shift yes\nmass 1 1.0\nmass 2 2.0\n' > bin.in
-"$PDCG" -q atoms2pd --input bin.data --potential bin.in --family-cutoff 2.9 -o bin.h5
-"$PDCG" -q rescale bin.h5 --factor 2 -o bin2.h5
+pd_body bin.data bin bin.in --family-cutoff 2.9
 run binary bin2.h5 1000 0.005 --temperature 0.05 --seed 13
 [ "$(grep -c '^pair_coeff' lmp_binary/model.pair)" = 3 ]
-python3 compare.py binary md_binary.dump lmp_binary/trajectory.dump 1e-8
-"$PDCG" export-lammps bin2.h5 -o lmp_binary_native --pair native --dt 0.005 --steps 1000 \
-  --temperature 0.05 --seed 13 > /dev/null
-(cd lmp_binary_native && lmp -in in.model -var dump_every 1000 -log none -screen none)
-python3 compare.py binary_native md_binary.dump lmp_binary_native/trajectory.dump 1e-10
+check binary 1e-8
+native binary_native bin2.h5 binary 1000 0.005 --temperature 0.05 --seed 13
 
 # ---- EAM Cu (setfl path), periodic
-cat > in.cu <<'LMP'
-units metal
-atom_style atomic
-lattice fcc 3.615
-region box block 0 3 0 3 0 3
-create_box 1 box
-create_atoms 1 box
-mass 1 63.546
-write_data cu.data
-LMP
-lmp -in in.cu -log none -screen none
+fcc_data cu metal 3.615 63.546
 printf 'units metal\npair_style eam\npair_coeff 1 1 /usr/share/lammps/potentials/Cu_u3.eam\n' > cu.in
-"$PDCG" -q atoms2pd --input cu.data --potential cu.in --family-cutoff 5.95 -o cu.h5
-"$PDCG" -q rescale cu.h5 --factor 2 -o cu2.h5
+pd_body cu.data cu cu.in --family-cutoff 5.95
 run eam_cu cu2.h5 500 0.002 --temperature 300 --seed 5
 grep -q "pair_style eam/alloy" lmp_eam_cu/model.pair
-python3 compare.py eam_cu md_eam_cu.dump lmp_eam_cu/trajectory.dump 1e-10
+check eam_cu 1e-10
 
 # ---- EAM with type-pair densities (eam/fs CuZr, random 30 % Zr on an FCC lattice), ε = 2
-cat > in.cuzr <<'LMP'
-units metal
-atom_style atomic
-lattice fcc 3.7
-region box block 0 3 0 3 0 3
-create_box 2 box
-create_atoms 1 box
-set type 1 type/fraction 2 0.3 4711
-mass 1 63.546
-mass 2 91.224
-write_data cuzr.data
-LMP
-lmp -in in.cuzr -log none -screen none
+fcc_data cuzr metal 3.7 63.546 91.224 0.3 4711
 printf 'units metal\npair_style eam/fs\npair_coeff * * /usr/share/lammps/potentials/CuZr_mm.eam.fs Cu Zr\n' > cuzr.in
-"$PDCG" -q atoms2pd --input cuzr.data --potential cuzr.in --family-cutoff 8.2 -o cuzr.h5
-"$PDCG" -q rescale cuzr.h5 --factor 2 -o cuzr2.h5
+pd_body cuzr.data cuzr cuzr.in --family-cutoff 8.2
 run eam_fs cuzr2.h5 300 0.001 --temperature 300 --seed 3
 grep -q "pair_style eam/fs" lmp_eam_fs/model.pair
-python3 compare.py eam_fs md_eam_fs.dump lmp_eam_fs/trajectory.dump 1e-10
+check eam_fs 1e-10
 
 # ---- where a fixed-family body and LAMMPS differ: neighbours entering the cutoff
 printf 'units lj\npair_style lj/cut 2.0\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n' > lj20.in
-"$PDCG" -q atoms2pd --input chain.data --potential lj20.in --dimension 1 --boundary "p f f" -o nn.h5
-"$PDCG" -q atoms2pd --input chain.data --potential lj20.in --dimension 1 --boundary "p f f" \
-  --family-cutoff 2.6 -o skin.h5
-"$PDCG" -q rescale nn.h5 --factor 2 -o nn2.h5
-"$PDCG" -q rescale skin.h5 --factor 2 -o skin2.h5
+pd_body chain.data nn lj20.in --dimension 1 --boundary "p f f"
+pd_body chain.data skin lj20.in --dimension 1 --boundary "p f f" --family-cutoff 2.6
 # a standing compressive wave v_x = A sin(2π x/L) (two wavelengths) on the rescaled chain
 wave() {
   python3 - "$1" "$2" <<'PY'
@@ -305,10 +289,10 @@ PY
 wave 0.02 small.vel
 wave 1.5 large.vel
 run nn_small nn2.h5 1000 0.005 --velocities small.vel
-python3 compare.py nn_small md_nn_small.dump lmp_nn_small/trajectory.dump 1e-8
+check nn_small 1e-8
 run nn_large nn2.h5 1000 0.005 --velocities large.vel
 run skin_large skin2.h5 1000 0.005 --velocities large.vel
-python3 compare.py skin_large md_skin_large.dump lmp_skin_large/trajectory.dump 1e-8
+check skin_large 1e-8
 # the closest second-neighbour distance of the PD run: below the cutoff 4.0 of the rescaled chain
 "$PDCG" md nn2.h5 --steps 1000 --dt 0.005 --velocities large.vel --dump nn_every.dump --every 10 2> /dev/null
 python3 - <<'PY'
@@ -319,7 +303,7 @@ d = min(p[(i + 2) % n + 1]["xu"] + (L if i + 2 >= n else 0) - p[i + 1]["xu"]
 print(f"nn_large: closest second neighbours {d:.4f} (cutoff 4.0, reference 4.49)")
 assert d < 4.0, d
 PY
-python3 compare.py nn_large md_nn_large.dump lmp_nn_large/trajectory.dump -1e-3
+check nn_large -1e-3
 
 # ---- refusals
 set +e
@@ -336,7 +320,7 @@ expect2 statistical 'statistical body cannot be exported.*expectation' stat.h5 -
 expect2 table-style 'unknown table style.*linear' chain2.h5 -o x --table-style cubic
 expect2 tolerance 'cannot reach the interpolation tolerance' chain2.h5 -o x --table-style linear --table-tolerance 1e-15
 expect2 inner 'bad inner end' chain2.h5 -o x --table-inner 9
-cat > in.si <<'LMP'
+lammps_data si <<'LMP'
 units metal
 atom_style atomic
 lattice diamond 5.431
@@ -346,10 +330,8 @@ create_atoms 1 box
 mass 1 28.0855
 write_data si.data
 LMP
-lmp -in in.si -log none -screen none
 printf 'units metal\npair_style sw\npair_coeff * * /usr/share/lammps/potentials/Si.sw Si\nmass 1 28.0855\n' > si.in
-"$PDCG" -q atoms2pd --input si.data --potential si.in -o si.h5
-"$PDCG" -q rescale si.h5 --factor 2 -o si2.h5
+pd_body si.data si si.in
 expect2 three-body 'cannot be represented in LAMMPS after rescaling.*sw.*not central pair forces' si2.h5 -o x
 printf 'units lj\npair_style buck 2.5\npair_coeff 1 1 2000.0 0.1 1.0\nmass 1 1.0\n' > buck.in
 "$PDCG" -q atoms2pd --input chain.data --potential buck.in --dimension 1 --boundary "p f f" -o buck.h5

@@ -38,6 +38,55 @@ inline Atoms fcc(int nx, int ny, int nz, double a, double noise, int ntypes, uns
   return at;
 }
 
+/// The 8 sites of the diamond-cubic cell in units of the cube edge: the 4 FCC sites, then the
+/// same shifted by (¼, ¼, ¼).
+inline constexpr double kDiamondBasis[8][3] = {
+    {0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},      {0, 0.5, 0.5},
+    {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25}, {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
+
+/// nx·ny·nz cubic cells of edge a holding the first `nbasis` sites of kDiamondBasis (4: FCC,
+/// 8: diamond), ids 1, 2, … cell by cell; type 1, or with `two_types` type 2 on the shifted
+/// sites (zincblende); every coordinate displaced by a uniform random amount in
+/// [−noise, noise] (length units, not a fraction of a).
+inline Atoms cubic_lattice(int nx, int ny, int nz, double a, int nbasis, double noise,
+                           bool two_types, unsigned seed) {
+  Atoms at;
+  at.box.hi = {nx * a, ny * a, nz * a};
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::int64_t id = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k)
+        for (int b = 0; b < nbasis; ++b) {
+          at.id.push_back(++id);
+          at.type.push_back(two_types && b >= 4 ? 2 : 1);
+          // braced list: evaluated left to right, so the draws go x, y, z
+          at.x.insert(at.x.end(), {(i + kDiamondBasis[b][0]) * a + noise * u(rng),
+                                   (j + kDiamondBasis[b][1]) * a + noise * u(rng),
+                                   (k + kDiamondBasis[b][2]) * a + noise * u(rng)});
+        }
+  return at;
+}
+
+/// Diamond (types 1 1) or zincblende (types 1 2) lattice of nx·ny·nz cubic cells of 8 atoms,
+/// every coordinate displaced by a uniform random amount in [−noise, noise] Å.
+inline Atoms diamond(int nx, int ny, int nz, double a, double noise, bool two_types,
+                     unsigned seed) {
+  return cubic_lattice(nx, ny, nz, a, 8, noise, two_types, seed);
+}
+
+/// The same of n³ cells.
+inline Atoms diamond(int n, double a, double noise, bool two_types, unsigned seed) {
+  return cubic_lattice(n, n, n, a, 8, noise, two_types, seed);
+}
+
+/// Free surfaces normal to z: the box stays, z is not periodic (a slab of the crystal).
+inline Atoms slab(Atoms at) {
+  at.box.periodic = {true, true, false};
+  return at;
+}
+
 /// Shears a configuration into a triclinic box (x += xy·y/ly + xz·z/lz, y += yz·z/lz).
 inline void make_triclinic(Atoms& at, double xy, double xz, double yz) {
   const Eigen::Vector3d L = at.box.lengths();

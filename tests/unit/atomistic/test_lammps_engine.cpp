@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <random>
 #include <sstream>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
@@ -17,33 +16,16 @@
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg_test.hpp"
+#include "potential_test_util.hpp"
 
 using namespace pdcg::atomistic;
 
 #if PDCG_WITH_LAMMPS
 namespace {
 
-/// Diamond-cubic Si, n³ cells of 8 atoms, perturbed.
+/// Diamond-cubic Si, n³ cells of 8 atoms, coordinates displaced by up to noise·a.
 Atoms diamond(int n, double a, double noise, unsigned seed) {
-  Atoms at;
-  at.box.hi = {n * a, n * a, n * a};
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
-                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
-                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& b : basis) {
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          at.x.insert(at.x.end(),
-                      {(i + b[0]) * a + noise * a * u(rng), (j + b[1]) * a + noise * a * u(rng),
-                       (k + b[2]) * a + noise * a * u(rng)});
-        }
-  return at;
+  return pdcg::test::diamond(n, a, noise * a, false, seed);
 }
 
 struct Reference {

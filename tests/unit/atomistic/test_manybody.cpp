@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <random>
 #include <sstream>
 
 #include "pdcg/atomistic/lammps_engine.hpp"
@@ -20,40 +19,12 @@
 #include "scratch_dir.hpp"
 
 using namespace pdcg::atomistic;
+using pdcg::test::diamond;
 using pdcg::test::make_triclinic;
 using pdcg::test::max_norm_relative_error;
+using pdcg::test::slab;
 
 namespace {
-
-/// Diamond (types 1 1) or zincblende (types 1 2) lattice of nx·ny·nz cubic cells of 8
-/// atoms, every coordinate displaced by a uniform random amount in [−noise, noise] Å.
-Atoms diamond(int nx, int ny, int nz, double a, double noise, bool two_types, unsigned seed) {
-  Atoms at;
-  at.box.hi = {nx * a, ny * a, nz * a};
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
-                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
-                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
-  std::int64_t id = 0;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j)
-      for (int k = 0; k < nz; ++k)
-        for (int b = 0; b < 8; ++b) {
-          at.id.push_back(++id);
-          at.type.push_back(two_types && b >= 4 ? 2 : 1);
-          at.x.insert(at.x.end(), {(i + basis[b][0]) * a + noise * u(rng),
-                                   (j + basis[b][1]) * a + noise * u(rng),
-                                   (k + basis[b][2]) * a + noise * u(rng)});
-        }
-  return at;
-}
-
-/// Free surfaces normal to z: the box stays, z is not periodic (a slab of the crystal).
-Atoms slab(Atoms at) {
-  at.box.periodic = {true, true, false};
-  return at;
-}
 
 struct Errors {
   double energy = 0, force = 0;

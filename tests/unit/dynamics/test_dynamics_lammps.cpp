@@ -14,6 +14,7 @@
 #include <random>
 #include <sstream>
 
+#include "../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/dynamics/dynamics.hpp"
@@ -28,27 +29,10 @@ using atomistic::Atoms;
 
 namespace {
 
-/// FCC (nbasis 4) or diamond (nbasis 8) lattice, perturbed.
+/// FCC (nbasis 4) or diamond (nbasis 8) lattice of n³ cells, coordinates displaced by up to
+/// noise·a.
 Atoms fcc(int n, double a, double noise, unsigned seed, int nbasis = 4) {
-  Atoms at;
-  at.box.hi = {n * a, n * a, n * a};
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
-                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
-                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (int q = 0; q < nbasis; ++q) {
-          const auto& b = basis[q];
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          for (int c = 0; c < 3; ++c)
-            at.x.push_back(((c == 0 ? i : c == 1 ? j : k) + b[c]) * a + noise * a * u(rng));
-        }
-  return at;
+  return test::cubic_lattice(n, n, n, a, nbasis, noise * a, false, seed);
 }
 
 struct MdSetup {
@@ -71,20 +55,20 @@ body::Body make_body(const MdSetup& s, const Atoms& at) {
 }
 
 #ifdef PDCG_WITH_LAMMPS
-void check_against_lammps(const MdSetup& s, int cells, int steps) {
-  const Atoms at = fcc(cells, s.a, s.noise, 17, s.nbasis);
-  const body::Body b = make_body(s, at);
-  const auto v0 = dynamics::thermal_velocities(b, s.temperature, 5);
-  dynamics::VelocityVerlet vv(b, b.x, v0, s.dt);
-  vv.run(steps);
-
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("pdcg_dyn_lmp_" + std::to_string(::getpid()));
+/// LAMMPS fix nve on the body's atoms (box [0, L)³, L = at.box.hi) from velocities v0 with the
+/// setup's pair commands, mass and time step: a data file at 17 digits in `dir`, the deck
+/// `units … read_data … fix 1 all nve`, neighbour lists checked every step (LAMMPS's
+/// `check yes`: rebuilt when an atom moved half the skin), then `tail` (thermo and run).
+/// Log to `log` (empty: none). Returns the open handle; the caller gathers, closes and removes
+/// `dir`.
+void* lammps_nve(const MdSetup& s, const Atoms& at, const body::Body& b,
+                 const std::vector<double>& v0, const std::filesystem::path& dir,
+                 const std::string& log, const std::string& tail) {
   std::filesystem::create_directories(dir);
   const auto data = (dir / "atoms.data").string();
   {
     std::ofstream d(data);
-    d << "fcc\n\n" << b.size() << " atoms\n1 atom types\n\n";
+    d << "crystal\n\n" << b.size() << " atoms\n1 atom types\n\n";
     d << fmt::format("0 {:.17g} xlo xhi\n0 {:.17g} ylo yhi\n0 {:.17g} zlo zhi\n\n", at.box.hi[0],
                      at.box.hi[1], at.box.hi[2]);
     d << fmt::format("Masses\n\n1 {:.17g}\n\nAtoms # atomic\n\n", s.mass);
@@ -97,15 +81,29 @@ void check_against_lammps(const MdSetup& s, int cells, int steps) {
                        v0[3 * k + 2]);
   }
   const int threads = omp_get_max_threads();
-  const char* args[] = {"test", "-log", "none", "-screen", "none", "-nocite"};
+  const char* args[] = {"test",    "-log", log.empty() ? "none" : log.c_str(),
+                        "-screen", "none", "-nocite"};
   void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
   omp_set_num_threads(threads);
-  const std::string script =
-      std::string("units ") + s.units + "\natom_style atomic\nboundary p p p\nread_data " + data +
-      "\n" + s.potential + fmt::format("mass 1 {:.17g}\n", s.mass) +
-      "neigh_modify every 1 delay 0 check yes\n" + fmt::format("timestep {:.17g}\n", s.dt) +
-      "fix 1 all nve\nthermo 0\n" + fmt::format("run {}\n", steps);
+  const std::string script = std::string("units ") + s.units +
+                             "\natom_style atomic\nboundary p p p\nread_data " + data + "\n" +
+                             s.potential + fmt::format("mass 1 {:.17g}\n", s.mass) +
+                             "neigh_modify every 1 delay 0 check yes\n" +
+                             fmt::format("timestep {:.17g}\n", s.dt) + "fix 1 all nve\n" + tail;
   lammps_commands_string(lmp, script.c_str());
+  return lmp;
+}
+
+void check_against_lammps(const MdSetup& s, int cells, int steps) {
+  const Atoms at = fcc(cells, s.a, s.noise, 17, s.nbasis);
+  const body::Body b = make_body(s, at);
+  const auto v0 = dynamics::thermal_velocities(b, s.temperature, 5);
+  dynamics::VelocityVerlet vv(b, b.x, v0, s.dt);
+  vv.run(steps);
+
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("pdcg_dyn_lmp_" + std::to_string(::getpid()));
+  void* lmp = lammps_nve(s, at, b, v0, dir, "", fmt::format("thermo 0\nrun {}\n", steps));
   const std::size_t n = b.size();
   std::vector<double> x(3 * n), v(3 * n);
   std::vector<int> img(3 * n);
@@ -134,9 +132,7 @@ void check_against_lammps(const MdSetup& s, int cells, int steps) {
   EXPECT_LT(eu, 1e-10);
   EXPECT_LT(ev, 1e-10);
 }
-#endif
 
-#ifdef PDCG_WITH_LAMMPS
 /// Largest |E(t) − E(0)| / |E(0)| over `steps` of NVE from the same atoms and velocities:
 /// pdcg's VelocityVerlet (first) and LAMMPS fix nve on the same deck (second, thermo every
 /// step, etotal from its log).
@@ -153,35 +149,10 @@ std::pair<double, double> energy_drift(const MdSetup& s, int cells, int steps) {
   }
   const auto dir =
       std::filesystem::temp_directory_path() / ("pdcg_drift_lmp_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto data = (dir / "atoms.data").string();
   const auto log = (dir / "log.lammps").string();
-  {
-    std::ofstream d(data);
-    d << "crystal\n\n" << b.size() << " atoms\n1 atom types\n\n";
-    d << fmt::format("0 {:.17g} xlo xhi\n0 {:.17g} ylo yhi\n0 {:.17g} zlo zhi\n\n", at.box.hi[0],
-                     at.box.hi[1], at.box.hi[2]);
-    d << fmt::format("Masses\n\n1 {:.17g}\n\nAtoms # atomic\n\n", s.mass);
-    for (std::size_t k = 0; k < b.size(); ++k)
-      d << fmt::format("{} 1 {:.17g} {:.17g} {:.17g}\n", b.id[k], b.x[3 * k], b.x[3 * k + 1],
-                       b.x[3 * k + 2]);
-    d << "\nVelocities\n\n";
-    for (std::size_t k = 0; k < b.size(); ++k)
-      d << fmt::format("{} {:.17g} {:.17g} {:.17g}\n", b.id[k], v0[3 * k], v0[3 * k + 1],
-                       v0[3 * k + 2]);
-  }
-  const int threads = omp_get_max_threads();
-  const char* args[] = {"test", "-log", log.c_str(), "-screen", "none", "-nocite"};
-  void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
-  omp_set_num_threads(threads);
-  const std::string script =
-      std::string("units ") + s.units + "\natom_style atomic\nboundary p p p\nread_data " + data +
-      "\n" + s.potential + fmt::format("mass 1 {:.17g}\n", s.mass) +
-      "neigh_modify every 1 delay 0 check yes\n" + fmt::format("timestep {:.17g}\n", s.dt) +
-      "fix 1 all nve\nthermo_style custom step etotal\nthermo_modify format float %.17g\n" +
-      fmt::format("thermo 1\nrun {}\n", steps);
-  lammps_commands_string(lmp, script.c_str());
-  lammps_close(lmp);
+  lammps_close(lammps_nve(s, at, b, v0, dir, log,
+                          "thermo_style custom step etotal\nthermo_modify format float %.17g\n" +
+                              fmt::format("thermo 1\nrun {}\n", steps)));
   std::ifstream in(log);
   std::string line;
   std::vector<double> e;

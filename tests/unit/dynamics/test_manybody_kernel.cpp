@@ -22,39 +22,12 @@
 
 using namespace pdcg;
 using atomistic::Atoms;
+using test::diamond;
+using test::slab;
 
 namespace {
 
 const std::string kPot = "/usr/share/lammps/potentials/";
-
-/// Diamond (types 1 1) or zincblende (types 1 2) lattice of n³ cubic cells, coordinates
-/// displaced uniformly in [−noise, noise] Å.
-Atoms diamond(int n, double a, double noise, bool two_types, unsigned seed) {
-  Atoms at;
-  at.box.hi = {n * a, n * a, n * a};
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double basis[8][3] = {{0, 0, 0},          {0.5, 0.5, 0},      {0.5, 0, 0.5},
-                              {0, 0.5, 0.5},      {0.25, 0.25, 0.25}, {0.75, 0.75, 0.25},
-                              {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (int b = 0; b < 8; ++b) {
-          at.id.push_back(++id);
-          at.type.push_back(two_types && b >= 4 ? 2 : 1);
-          at.x.insert(at.x.end(), {(i + basis[b][0]) * a + noise * u(rng),
-                                   (j + basis[b][1]) * a + noise * u(rng),
-                                   (k + basis[b][2]) * a + noise * u(rng)});
-        }
-  return at;
-}
-
-Atoms slab(Atoms at) {
-  at.box.periodic = {true, true, false};
-  return at;
-}
 
 body::Body make_body(const std::string& commands, Atoms at, double family_margin = 1.0) {
   const int ntypes = *std::max_element(at.type.begin(), at.type.end());
