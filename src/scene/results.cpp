@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <cstdint>
+#include <numeric>
+
 #include <Eigen/LU>
 
 #include "checks.hpp"
@@ -52,15 +55,23 @@ void write_xdmf(const std::filesystem::path& dir, std::size_t n,
     const std::string h5 = fmt::format("results_{:04d}.h5", step);
     o << fmt::format("   <Grid Name=\"step {}\" GridType=\"Uniform\">\n    <Time Value=\"{}\"/>\n",
                      step, t);
-    o << fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\"/>\n", n);
+    // one vertex cell per point (connectivity points/vertex): without cells ParaView reads
+    // the points but draws nothing
+    o << fmt::format(
+        "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\">"
+        "<DataItem Dimensions=\"{} 1\" NumberType=\"Int\" Precision=\"8\" "
+        "Format=\"HDF\">{}:/points/vertex</DataItem></Topology>\n",
+        n, n, h5);
     o << fmt::format(
         "    <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" "
-        "Format=\"HDF\">{}:/points/reference</DataItem></Geometry>\n",
+        "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/points/reference</DataItem>"
+        "</Geometry>\n",
         n, h5);
     auto attr = [&](const char* name, const char* path, const char* type, int comps) {
       o << fmt::format(
           "    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\"><DataItem "
-          "Dimensions=\"{}{}\" Format=\"HDF\">{}:{}</DataItem></Attribute>\n",
+          "Dimensions=\"{}{}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}</DataItem>"
+          "</Attribute>\n",
           name, type, n, comps > 1 ? fmt::format(" {}", comps) : std::string(), h5, path);
     };
     attr("displacement", "/fields/displacement", "Vector", 3);
@@ -111,6 +122,9 @@ void write_fields(const std::filesystem::path& dir, const Scene& s,
                   {"pdcg-results", 1, s.units, {}, {}});
   h5.write("points/reference", X, {N, 3});
   h5.write("points/volume", body.volumes(), {N});
+  std::vector<std::int64_t> vertex(N);  // the XDMF's vertex cells (write_xdmf)
+  std::iota(vertex.begin(), vertex.end(), std::int64_t{0});
+  h5.write("points/vertex", vertex, {N, 1});
   h5.write("fields/displacement", U, {N, 3});
   h5.write("fields/deformed_position", Y, {N, 3});
   h5.write("fields/deformation_gradient", Fv, {N, 9});
