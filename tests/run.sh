@@ -10,6 +10,7 @@
 # them locally. The extra ctest arguments apply to the Release tests only.
 set -euo pipefail
 export PDCG_CHECKS=${PDCG_CHECKS:-1}
+export PDCG_TESTS=1  # the test suite's own packages too (ParaView, Xvfb: setup.sh)
 source "$(dirname "$0")/../workflows/lib/setup.sh"
 pdcg_install_dependencies
 pdcg_build

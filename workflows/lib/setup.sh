@@ -24,10 +24,15 @@ PDCG_PACKAGES=(
 # clang, libFuzzer, the sanitizer runtimes, clang's OpenMP, llvm-symbolizer (file:line in the
 # reports). Installed when PDCG_CHECKS=1 (tests/run.sh's default, and those scripts set it).
 PDCG_CHECK_PACKAGES=(clang-14 libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev llvm-14)
+# Extra packages of the test suite only (tests/run.sh sets PDCG_TESTS=1): ParaView's batch
+# Python and a virtual X server for the test that opens a run's results.xdmf in ParaView
+# (tests/paraview/); ~70 MB to download, about 2 minutes to install.
+PDCG_TEST_PACKAGES=(paraview python3-paraview xvfb)
 
 pdcg_missing_packages() {
   local missing=() p status wanted=("${PDCG_PACKAGES[@]}")
   [ "${PDCG_CHECKS:-0}" = 1 ] && wanted+=("${PDCG_CHECK_PACKAGES[@]}")
+  [ "${PDCG_TESTS:-0}" = 1 ] && wanted+=("${PDCG_TEST_PACKAGES[@]}")
   for p in "${wanted[@]}"; do
     status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
     [[ "$status" == "install ok installed" ]] || missing+=("$p")
