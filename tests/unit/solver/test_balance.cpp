@@ -122,3 +122,97 @@ TEST(ForceBalance, PreCrackedSheetAndRupture) {
   EXPECT_GT(broke, 0u) << "the test needs broken bonds";
   EXPECT_LT(internal_force_sum(model, 3), 1e-13);  // with the broken bonds
 }
+
+// Consistency of the balanced correction for a linear stress field (docs/theory.md §7,
+// "Consistency for a linear stress field"): for a quadratic displacement of small amplitude
+// S (linear elasticity, σ = λ tr ε I + 2μ ε with λ = K − 2μ/3 for this Neo-Hookean) the exact
+// force on a grid cell is −div σ V + Σ_faces σ(face centre) n |f| (the midpoint rule is exact
+// for a linear σ). Summed over a column of the flat boundary layer, the weak form's forces
+// must equal the column's exact total: the per-point errors (≈ 8 S Δx² in rows 0–1, the layer's
+// own truncation error) cancel in the column, because the flux's pair terms do and the energy
+// part's layer moment does (docs/solver.md §3, "Accuracy of the balanced correction").
+// The one-stress-per-point form misses the column total by ½Δx² ∂_n(σ n), the traction taken
+// at the points Δx/2 inside the face (4.6 S Δx² for this field).
+TEST(ForceBalance, FlatLayerColumnCarriesTheExactForceOfALinearStress) {
+  const double S = 1e-6, mu = 1.0, K = 10.0, lam = K - 2 * mu / 3;
+  // u_a = S (A_a0 x² + A_a1 xy + A_a2 y²)
+  const double A[2][3] = {{1.0, 0.5, -0.3}, {-0.4, 0.7, 0.2}};
+  auto stress = [&](double x, double y) {
+    Eigen::Matrix2d G;
+    for (int a = 0; a < 2; ++a) {
+      G(a, 0) = S * (2 * A[a][0] * x + A[a][1] * y);
+      G(a, 1) = S * (A[a][1] * x + 2 * A[a][2] * y);
+    }
+    const Eigen::Matrix2d e = 0.5 * (G + G.transpose());
+    return Eigen::Matrix2d(lam * e.trace() * Eigen::Matrix2d::Identity() + 2 * mu * e);
+  };
+  for (double h : {1.0 / 40, 1.0 / 80}) {
+    GridSpec g;
+    g.size = Vec3(1.0, 1.0, 1.0);
+    g.spacing = h;
+    const auto body = Discretization::grid(g);
+    const auto mat = make_neo_hookean({mu, K}, Kinematics::plane_strain);
+    Model model(body, *mat, {});
+    const auto& x = body.positions();
+    Eigen::VectorXd u(model.dofs()), f;
+    for (std::size_t i = 0; i < body.size(); ++i)
+      for (int a = 0; a < 2; ++a)
+        u[2 * i + a] = S * (A[a][0] * x[i].x() * x[i].x() + A[a][1] * x[i].x() * x[i].y() +
+                            A[a][2] * x[i].y() * x[i].y());
+    ASSERT_TRUE(model.internal_force(u, f));
+    // exact cell force: −div σ h² (div σ by central differences of the linear σ: exact) plus
+    // the faces on the body's surface
+    auto exact = [&](const Vec3& p) {
+      const double e = 0.25 * h;
+      Eigen::Vector2d t = -h * h *
+                          ((stress(p.x() + e, p.y()).col(0) - stress(p.x() - e, p.y()).col(0) +
+                            stress(p.x(), p.y() + e).col(1) - stress(p.x(), p.y() - e).col(1)) /
+                           (2 * e));
+      for (int ax = 0; ax < 2; ++ax)
+        for (int sg : {-1, 1}) {
+          const double c = p(ax) + sg * 0.5 * h;
+          if (c > 1e-9 && c < 1 - 1e-9) continue;  // not a face of the body
+          const double fx = ax == 0 ? c : p.x(), fy = ax == 1 ? c : p.y();
+          t += sg * h * stress(fx, fy).col(ax);
+        }
+      return t;
+    };
+    // the column x = ½ + ½h, top half (the face y = 1 and the layer below it), and the row
+    // y = ½ + ½h, right half (the face x = 1)
+    Eigen::Vector2d col = Eigen::Vector2d::Zero(), row = Eigen::Vector2d::Zero();
+    double worst_point = 0;
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      const Eigen::Vector2d r = f.segment<2>(2 * i) - exact(x[i]);
+      if (std::abs(x[i].x() - 0.5 - 0.5 * h) < 1e-9 && x[i].y() > 0.5) {
+        col += r;
+        worst_point = std::max(worst_point, r.norm());
+      }
+      if (std::abs(x[i].y() - 0.5 - 0.5 * h) < 1e-9 && x[i].x() > 0.5) row += r;
+    }
+    // What the one-stress-per-point form −P(F̄_k) e_k would add to the column for this
+    // linear σ: Σ_col P(x_k) e_k = ∂_y σ · Σ_col (y_k − 1) e_k,y (Σ_col e_k = 0); measured
+    // Σ_col (y_k − 1) e_k,y = ½Δx², i.e. ½Δx² ∂_y(σ n) (docs/theory.md §7)
+    const auto& e = model.boundary_defect();
+    double ye = 0;
+    for (std::size_t i = 0; i < body.size(); ++i)
+      if (std::abs(x[i].x() - 0.5 - 0.5 * h) < 1e-9 && x[i].y() > 0.5)
+        ye += (x[i].y() - 1) * e[i].y();
+    EXPECT_NEAR(ye / (h * h), 0.5, 1e-6);  // the layer's first moment (round-off of the sums)
+    const Eigen::Vector2d one_stress =
+        ye * (stress(0.5, 0.5 + 1e-3).col(1) - stress(0.5, 0.5 - 1e-3).col(1)) / 2e-3;
+    const double unit = S * h * h;
+    std::printf(
+        "Δx = %.4f: column error %.2e, row error %.2e, largest point error %.2f, one-stress "
+        "column error %.2f (S Δx²)\n",
+        h, col.norm() / unit, row.norm() / unit, worst_point / unit, one_stress.norm() / unit);
+    // 0.02 S Δx²: measured 2.6e-3 / 5.1e-3 at 1/40 / 1/80 (the interior's own truncation error for
+    // a quadratic field, ≈ 1e-3 S Δx per point at 1/40, and the Neo-Hookean's O(K S / Δx)
+    // departure from the linear stress); the one-stress form misses by 4.6 (docs/theory.md §7)
+    EXPECT_LT(col.norm(), 0.02 * unit);
+    EXPECT_LT(row.norm(), 0.02 * unit);
+    // the per-point errors are O(S Δx²), not small: the column total is what is consistent;
+    // and the one-stress form's column error would fail the bound above by two orders
+    EXPECT_GT(worst_point, 1.0 * unit);
+    EXPECT_GT(one_stress.norm(), 1.0 * unit);
+  }
+}
