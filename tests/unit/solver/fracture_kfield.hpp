@@ -101,9 +101,10 @@ struct KfieldResult {
 // tip has advanced by a_max δ or after max_events breaking events.
 inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delta,
                            bool follow_tip = true, double layer = 1.0, int max_events = 400,
-                           bool verbose = false, BoundaryForm boundary = BoundaryForm::weak) {
+                           bool verbose = false, BoundaryForm boundary = BoundaryForm::weak,
+                           bool instantaneous = false) {
   const double dx = 1.0, delta = m * dx;
-  const int n = 2 * static_cast<int>(std::lround(L_over_delta * delta / dx / 1.0));
+  const int n = 2 * static_cast<int>(std::lround(L_over_delta * delta / dx));
   const double L = 0.5 * n * dx;
   GridSpec g;
   g.origin = Vec3(-L, -L, -0.5);
@@ -127,16 +128,19 @@ inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delt
   RuptureOptions ro;
   ro.criterion = RuptureCriterion::fracture_energy;
   ro.fracture_energy = G_c;
+  if (instantaneous) {  // Ψ(F_ij) ≥ ψ_c: the energy-density rule at the calibrated ψ_c
+    ro.criterion = RuptureCriterion::energy_density;
+    ro.critical = G_c / (fracture_energy_shape_factor(2) * delta);
+  }
   ro.max_passes = 100000;
   Rupture rup(body, model, ro);
   double centre = 0;  // the tip the prescribed field is centred on
   std::vector<DisplacementSet> ds;
   // one displacement set per prescribed point (a component is a function of t = K only)
   auto build_sets = [&] {
-    ds.assign(outer.size(), {});
+    ds.assign(outer.size(), DisplacementSet{"K-field", {}, {}});
     for (std::size_t k = 0; k < outer.size(); ++k) {
       const Vec3 uu = kfield_unit_displacement(x[outer[k]], centre);
-      ds[k].name = "k";
       ds[k].points = {outer[k]};
       ds[k].component[0] = [ux = uu.x()](double t) { return t * ux; };
       ds[k].component[1] = [uy = uu.y()](double t) { return t * uy; };
@@ -170,13 +174,15 @@ inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delt
   for (int ev = 0; ev < max_events; ++ev) {
     solve_at(K);
     double r = 0;
-    for (double v : rup.criterion_values(solver->displacement())) r = std::max(r, v);
-    // next break: W ∝ K² (one correction solve if the prediction was short)
+    for (double v : rup.criterion_values(solver->displacement()))
+      r = std::max(r, v / rup.options().critical);
+    // next break: W ∝ K² (corrected by further solves while the prediction falls short)
     for (int it = 0; it < 5 && r < 1; ++it) {
       K *= std::sqrt(1.0 / r) * (1 + 1e-4);
       solve_at(K);
       r = 0;
-      for (double v : rup.criterion_values(solver->displacement())) r = std::max(r, v);
+      for (double v : rup.criterion_values(solver->displacement()))
+        r = std::max(r, v / rup.options().critical);
     }
     if (verbose && out.events.empty()) {  // the bonds about to break first
       const auto v = rup.criterion_values(solver->displacement());
