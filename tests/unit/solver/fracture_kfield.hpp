@@ -98,7 +98,12 @@ struct KfieldResult {
 // field moves with the crack), else about the origin. K is raised quasi-statically: after
 // each equilibrium the largest W/W_c predicts the K of the next break (W ∝ K² at small
 // strain), K is set 10⁻⁴ above it and the staggered passes run at that K. Stops when the
-// tip has advanced by a_max δ or after max_events breaking events.
+// tip has advanced by a_max δ or after max_events breaking events. `boundary`: how the
+// pre-crack faces enter (weak: sharp traction-free faces of the weak form; energy: PD
+// surfaces, as the faces rupture opens — the prescribed layer removes every other surface).
+// `instantaneous`: the energy_density rule Ψ(F_ij) ≥ ψ_c = G_c/(β₂δ) instead of the
+// accumulated pair work. `verbose` prints the twelve largest W/W_c before the first break
+// and one line per event (with the energy the passes released, Π before − Π after).
 inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delta,
                            bool follow_tip = true, double layer = 1.0, int max_events = 400,
                            bool verbose = false, BoundaryForm boundary = BoundaryForm::weak,

@@ -280,7 +280,7 @@ TEST(FractureEnergy, KFieldCrackGrowsAboveKcButDissipatesGc) {
       "%.4f G_c per unit length\n",
       r.K_init(), e1.tip / r.delta, e1.K_over_Kc, e1.tip - e0.tip,
       (e1.dissipated - e0.dissipated) / (e1.tip - e0.tip));
-  // measured 1.849 and 1.917 (L = 4δ; 1.809 and 1.860 at L = 10δ: the finite square's
+  // measured 1.849 and 1.917 (L = 4δ; 1.809 and 1.875 at L = 10δ: the finite square's
   // O(δ/L) share); the band is 1.7–2.1 K_c, i.e. G/G_c 2.9–4.4, nowhere near 1
   EXPECT_GT(r.K_init(), 1.7);
   EXPECT_LT(r.K_init(), 2.0);
@@ -288,11 +288,11 @@ TEST(FractureEnergy, KFieldCrackGrowsAboveKcButDissipatesGc) {
   EXPECT_LT(e1.K_over_Kc, 2.1);
   EXPECT_GE(e1.K_over_Kc, r.K_init());
   // energy: the bond work dissipated per unit advance is about the calibration's G_c
-  // (measured 1.07 over this 1.5Δx; 1.29–1.30 in steady growth over 1.7–2.5δ at L = 6δ, 10δ; > 0.9:
-  // every pair crossing the new crack breaks with ≥ W_c, their lattice sum is G_c to 3.2 %, and the
-  // granular tip position leaves a few long crossing pairs intact) and below the G = K²/E' the
-  // advance releases (3.67 G_c: the rest is the snap-back of abruptly broken bonds,
-  // docs/fracture.md §5.3)
+  // (measured 1.07 over this 1.5Δx; 1.29–1.30 in steady growth over 1.7–2.5δ at L = 6δ and
+  // 10δ; > 0.9: every pair crossing the new crack breaks with ≥ W_c, their lattice sum is G_c
+  // to 3.2 %, and the granular tip position leaves a few long crossing pairs intact) and
+  // below the G = K²/E' the advance releases (3.67 G_c: the rest is the snap-back of
+  // abruptly broken pairs, docs/fracture.md §5.3)
   const double per_length = (e1.dissipated - e0.dissipated) / (e1.tip - e0.tip);
   EXPECT_GT(per_length, 0.9);
   EXPECT_LT(per_length, e1.K_over_Kc * e1.K_over_Kc);
