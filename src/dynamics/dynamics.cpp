@@ -603,17 +603,7 @@ bool VelocityVerlet::evaluate_manybody() {
     bool applicable = true;
     energy += pot.manybody_forces(lists, k0, k1, y, f, applicable);
     ok = ok && applicable;
-    fold_ghosts(f, 3);
-    if (used > 1) {
-#pragma omp barrier
-#pragma omp for schedule(static) nowait
-      for (std::int64_t i = 0; i < 3 * n; ++i) {
-        double sum = 0.0;
-        for (int th = 0; th < used; ++th)
-          sum += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-        f_[static_cast<size_t>(i)] = sum;
-      }
-    }
+    reduce_thread_forces(f, used);  // the last work of the region
   }
   if (!ok) return false;
   potential_ = energy;
@@ -630,6 +620,24 @@ void VelocityVerlet::update_ghosts() {
 #pragma omp for schedule(static)
   for (std::int64_t g = 0; g < ng; ++g)
     for (int c = 0; c < 3; ++c) yg[3 * g + c] = y[3 * a[g] + c] + s[3 * g + c];
+}
+
+/// Inside a parallel region of `used` threads, the last work of every thread: folds the ghost
+/// entries of this thread's force copy f, then (several threads) sums the copies thread_f_
+/// into f_, each thread a static slice of the 3n values, in thread order. No barrier at the
+/// end: the region's end is one.
+void VelocityVerlet::reduce_thread_forces(double* f, int used) {
+  fold_ghosts(f, 3);
+  if (used == 1) return;
+  const std::int64_t n3 = 3 * static_cast<std::int64_t>(body_.size());
+#pragma omp barrier
+#pragma omp for schedule(static) nowait
+  for (std::int64_t i = 0; i < n3; ++i) {
+    double s = 0.0;
+    for (int th = 0; th < used; ++th)
+      s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+    f_[static_cast<size_t>(i)] = s;
+  }
 }
 
 /// Adds the ghost entries of one array (stride values per point) to their points (serial: a
@@ -792,17 +800,7 @@ void VelocityVerlet::evaluate_eam() {
       f[3 * k + 2] += fz;
       energy += e;
     }
-    fold_ghosts(f, 3);  // this thread's copy
-    if (used > 1) {
-#pragma omp barrier
-#pragma omp for schedule(static) nowait  // the region's end is the barrier
-      for (std::int64_t i = 0; i < 3 * n; ++i) {
-        double s = 0.0;
-        for (int th = 0; th < used; ++th)
-          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-        f_[static_cast<size_t>(i)] = s;
-      }
-    }
+    reduce_thread_forces(f, used);  // the last work of the region
   }
   potential_ = energy;
 }
@@ -867,18 +865,7 @@ void VelocityVerlet::evaluate_pairwise(bool with_energy) {
         for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
       }
     }
-    fold_ghosts(f, 3);  // this thread's copy
-    // reduce the thread copies (each thread a slice of the dofs)
-    if (used > 1) {
-#pragma omp barrier
-#pragma omp for schedule(static) nowait  // the region's end is the barrier
-      for (std::int64_t i = 0; i < 3 * n; ++i) {
-        double s = 0.0;
-        for (int th = 0; th < used; ++th)
-          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-        f_[static_cast<size_t>(i)] = s;
-      }
-    }
+    reduce_thread_forces(f, used);  // the last work of the region
   }
   potential_ = energy;
   potential_current_ = h.energy;
