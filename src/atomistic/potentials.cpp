@@ -889,17 +889,10 @@ class EamModel final : public Potential {
           spline_of(e_.rhor_spline, e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)], mm);
       const double* c2 =
           spline_of(e_.z2r_spline, e_.type2z2r[static_cast<std::size_t>(kt * n1 + jt)], mm);
-      const double g = (c1[0] * q + c1[1]) * q + c1[2];
-      const double gp = cl ? 0.0 : (2.0 * c1[0] * q + c1[1]) * e_.rdr;
-      const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
-      const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
-      const double z2pp = cl ? 0.0 : (2.0 * c2[0] * q + c2[1]) * e_.rdr;
-      const double recip = 1.0 / r;
-      const double phi = z2 * recip;
-      const double phip = z2p * recip - phi * recip;
-      const double phipp = (z2pp - 2.0 * phip) * recip;  // (rφ)'' = rφ'' + 2φ'
-      const double T = fp * g + 0.5 * phip;
-      const double Tp = fp * gp + 0.5 * phipp;
+      const eam::PairTerms pt = eam::pair_terms(c1, c2, q, cl, r, e_.rdr);
+      const double g = pt.g, recip = 1.0 / r;
+      const double T = fp * g + 0.5 * pt.phip;
+      const double Tp = fp * pt.gp + 0.5 * pt.phipp;
       add_radial_block(K + static_cast<std::size_t>((b * n + b) * 9), y, T * recip,
                        (Tp * recip - T * recip * recip) * recip);
       for (int a = 0; a < 3; ++a) u[3 * b + a] = g * y[a] * recip;

@@ -95,17 +95,10 @@ void eam_family_rows(const atomistic::EamView& E, const body::Body& body, const 
     const double q = locate(r, E.rdr, E.nr, mm, cl);
     const double* c1 = E.rhor[static_cast<size_t>(jt * n1 + kt)] + 7 * mm;
     const double* c2 = E.z2r[static_cast<size_t>(kt * n1 + jt)] + 7 * mm;
-    const double g = (c1[0] * q + c1[1]) * q + c1[2];
-    const double gp = cl ? 0.0 : (2.0 * c1[0] * q + c1[1]) * E.rdr;
-    const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
-    const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
-    const double z2pp = cl ? 0.0 : (2.0 * c2[0] * q + c2[1]) * E.rdr;
-    const double recip = 1.0 / r;
-    const double phi = z2 * recip;
-    const double phip = z2p * recip - phi * recip;
-    const double phipp = (z2pp - 2.0 * phip) * recip;
-    const double T = fp * g + 0.5 * phip;
-    const double Tp = fp * gp + 0.5 * phipp;
+    const atomistic::eam::PairTerms pt = atomistic::eam::pair_terms(c1, c2, q, cl, r, E.rdr);
+    const double g = pt.g, recip = 1.0 / r;
+    const double T = fp * g + 0.5 * pt.phip;
+    const double Tp = fp * pt.gp + 0.5 * pt.phipp;
     const double sI = T * recip, cY = (Tp * recip - T * recip * recip) * recip;
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c) d[3 * a + c] += cY * y[a] * y[c] + (a == c ? sI : 0.0);
