@@ -171,11 +171,7 @@ class Geometry final : public Component {
   void resolve(const std::string&, Emitter& out, const Scene& s) const override {
     auto& y = out.yaml();
     const int d = s.dimension;
-    auto vec = [&](const Vec3& v) {
-      y << YAML::Flow << YAML::BeginSeq;
-      for (int a = 0; a < d; ++a) y << v(a);
-      y << YAML::EndSeq;
-    };
+    auto vec = [&](const Vec3& v) { emit_vec(y, v, d); };
     y << YAML::Key << "geometry" << YAML::Value << YAML::BeginMap;
     if (s.model_geometry) {
       y << YAML::Key << "shape" << YAML::Value << "model" << YAML::Key << "file" << YAML::Value

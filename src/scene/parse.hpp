@@ -51,4 +51,7 @@ std::vector<std::unique_ptr<Component>> core_components();
 void register_builtin_effects(const std::function<void(std::string, EffectFactory)>& add);
 void register_builtin_materials(const std::function<void(std::string, MaterialFactory)>& add);
 
+/// The first `dim` components of v as a flow sequence ([x, y] or [x, y, z]) of a resolved scene.
+void emit_vec(YAML::Emitter& y, const solver::Vec3& v, int dim);
+
 }  // namespace pdcg::scene
