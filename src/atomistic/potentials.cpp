@@ -135,6 +135,7 @@ struct TypeTable {
   C& operator()(int i, int j) { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
   const C& operator()(int i, int j) const { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
   char& is_set(int i, int j) { return set[static_cast<std::size_t>(i * (n + 1) + j)]; }
+  char is_set(int i, int j) const { return set[static_cast<std::size_t>(i * (n + 1) + j)]; }
 };
 
 double global_cutoff(const PotentialSpec& spec, std::string_view style) {
@@ -186,10 +187,12 @@ void check_args(const PotentialSpec& spec, const CoeffLine& c, std::size_t lo, s
         .expected(usage);
 }
 
-void require_all_set(const PotentialSpec& spec, const std::vector<char>& diag_set,
-                     std::string_view style) {
+/// Every type t has its own pair_coeff t t (`set` marks the pairs the lines gave; the mixed
+/// I ≠ J pairs follow from these).
+template <class C>
+void require_all_set(const PotentialSpec& spec, const TypeTable<C>& set, std::string_view style) {
   for (int t = 1; t <= spec.ntypes; ++t)
-    if (!diag_set[static_cast<std::size_t>(t)])
+    if (!set.is_set(t, t))
       throw InputError("pair coefficients missing for an atom type")
           .source(spec.source)
           .key("pair_coeff")
@@ -214,9 +217,7 @@ TypeTable<LJCut::Coeff> build_lj(const PotentialSpec& spec, double& cutmax) {
       eps.is_set(i, j) = 1;
     });
   }
-  std::vector<char> diag(static_cast<std::size_t>(n + 1), 0);
-  for (int t = 1; t <= n; ++t) diag[static_cast<std::size_t>(t)] = eps.is_set(t, t);
-  require_all_set(spec, diag, "lj/cut");
+  require_all_set(spec, eps, "lj/cut");
   TypeTable<LJCut::Coeff> out(n);
   cutmax = 0.0;
   for (int i = 1; i <= n; ++i)
@@ -301,9 +302,7 @@ TypeTable<Zero::Coeff> build_zero(const PotentialSpec& spec, double& cutmax) {
       cut.is_set(i, j) = 1;
     });
   }
-  std::vector<char> diag(static_cast<std::size_t>(n + 1), 0);
-  for (int t = 1; t <= n; ++t) diag[static_cast<std::size_t>(t)] = cut.is_set(t, t);
-  require_all_set(spec, diag, "zero");
+  require_all_set(spec, cut, "zero");
   TypeTable<Zero::Coeff> out(n);
   cutmax = 0.0;
   for (int i = 1; i <= n; ++i)
