@@ -187,12 +187,12 @@ void check_args(const PotentialSpec& spec, const CoeffLine& c, std::size_t lo, s
         .expected(usage);
 }
 
-/// Every type t has its own pair_coeff t t (`set` marks the pairs the lines gave; the mixed
-/// I ≠ J pairs follow from these).
+/// Every type t has its own pair_coeff t t (is_set of the table marks the pairs the lines
+/// gave; the mixed I ≠ J pairs follow from these).
 template <class C>
-void require_all_set(const PotentialSpec& spec, const TypeTable<C>& set, std::string_view style) {
+void require_all_set(const PotentialSpec& spec, const TypeTable<C>& table, std::string_view style) {
   for (int t = 1; t <= spec.ntypes; ++t)
-    if (!set.is_set(t, t))
+    if (!table.is_set(t, t))
       throw InputError("pair coefficients missing for an atom type")
           .source(spec.source)
           .key("pair_coeff")
