@@ -54,6 +54,9 @@ struct TripleTable {
   }
   /// "Si C C" for messages.
   std::string triple_name(int i, int j, int k) const;
+  /// The entry index of each type triple (ti, tj, tk), t = 1..ntypes, at
+  /// (ti·(ntypes+1) + tj)·(ntypes+1) + tk (0 where a type is 0).
+  std::vector<int> type_triple_index(int ntypes) const;
 };
 
 /// Reads the parameter file of the (last) pair_coeff command of `spec` for a style whose

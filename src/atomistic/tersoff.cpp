@@ -278,14 +278,7 @@ class Tersoff final : public Potential {
     for (const Param& p : params_) cutmax_ = std::max(cutmax_, p.cut);
     cutmaxsq_ = cutmax_ * cutmax_;
     reachsq_ = std::max(cutmax_ - shift_, 0.0) * std::max(cutmax_ - shift_, 0.0);
-    pidx_.assign(static_cast<std::size_t>(n1_ * n1_ * n1_), 0);
-    for (int ti = 1; ti <= ntypes_; ++ti)
-      for (int tj = 1; tj <= ntypes_; ++tj)
-        for (int tk = 1; tk <= ntypes_; ++tk)
-          pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tk)] =
-              static_cast<int>(table.index(table.element_of_type[static_cast<std::size_t>(ti)],
-                                           table.element_of_type[static_cast<std::size_t>(tj)],
-                                           table.element_of_type[static_cast<std::size_t>(tk)]));
+    pidx_ = table.type_triple_index(ntypes_);
   }
 
   std::string style() const override { return style_; }
