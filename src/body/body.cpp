@@ -382,13 +382,8 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
         yb[3 * (b - b0) + 1] = v[1];
         yb[3 * (b - b0) + 2] = v[2];
       }
-      atomistic::FamilyState f;
-      f.type = body_.type[i];
-      f.size = fam.offset[i + 1] - fam.offset[i];
-      f.neighbor_type = ntype_.data() + b0;
-      f.bond = yb.data();
-      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      const atomistic::FamilyState f =
+          atomistic::family_state(fam, i, body_.type[i], ntype_.data() + b0, yb.data());
       psi_[i] = pot.force_state(f, t_.data() + 3 * b0);
       total += psi_[i];
     });

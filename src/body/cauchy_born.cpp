@@ -231,13 +231,9 @@ void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, 
       s.Y[3 * bb + static_cast<std::size_t>(i)] =
           F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2];
   }
-  atomistic::FamilyState f;
-  f.type = body_.type[static_cast<std::size_t>(k)];
-  f.size = n;
-  f.neighbor_type = s.nt.data();
-  f.bond = s.Y.data();
-  f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-  f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+  const atomistic::FamilyState f =
+      atomistic::family_state(fam, static_cast<std::size_t>(k),
+                              body_.type[static_cast<std::size_t>(k)], s.nt.data(), s.Y.data());
   psi = pot.force_state(f, s.t.data());
   std::fill(pk, pk + 9, 0.0);
   for (std::int64_t b = 0; b < n; ++b)
@@ -308,13 +304,9 @@ void CauchyBorn::family_shifted(std::size_t slot, const Eigen::Matrix3d& F, cons
                                                   F(i, 2) * xi[3 * b + 2] + shift[3 * c + i] -
                                                   shift[3 * a + i];
   }
-  atomistic::FamilyState f;
-  f.type = body_.type[static_cast<std::size_t>(k)];
-  f.size = n;
-  f.neighbor_type = s.nt.data();
-  f.bond = s.Y.data();
-  f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-  f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+  const atomistic::FamilyState f =
+      atomistic::family_state(fam, static_cast<std::size_t>(k),
+                              body_.type[static_cast<std::size_t>(k)], s.nt.data(), s.Y.data());
   out.E += w * pot.force_state(f, s.t.data());
   for (std::int64_t b = 0; b < n; ++b) {
     const int c = site[1 + b];

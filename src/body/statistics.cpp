@@ -373,13 +373,8 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
       const Eigen::Vector3d v = atomistic::bond_vector(fam, ys, h_y, i, b);
       for (int k = 0; k < 3; ++k) yb[3 * (b - b0) + static_cast<std::size_t>(k)] = v[k];
     }
-    atomistic::FamilyState f;
-    f.type = body.type[i];
-    f.size = static_cast<std::int64_t>(b1 - b0);
-    f.neighbor_type = sc.ntype.data() + b0;
-    f.bond = yb.data();
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const atomistic::FamilyState f =
+        atomistic::family_state(fam, i, body.type[i], sc.ntype.data() + b0, yb.data());
     const double psi = pot.force_state(f, tb.data());
     psi_out[i] += weight * psi;
     for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * tb[c - 3 * b0];

@@ -48,13 +48,8 @@ LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential,
   for (std::size_t k = 0; k < n; ++k) {
     if (start_[k] < 0) continue;
     const auto b0 = static_cast<std::size_t>(fam.offset[k]);
-    atomistic::FamilyState f;
-    f.type = type[k];
-    f.size = fam.offset[k + 1] - fam.offset[k];
-    f.neighbor_type = ntype.data() + b0;
-    f.bond = xi_.data() + bond_start_[k];
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const atomistic::FamilyState f =
+        atomistic::family_state(fam, k, type[k], ntype.data() + b0, xi_.data() + bond_start_[k]);
     potential.force_state_tangent(f, k_.data() + start_[k], work.data());
   }
 }

@@ -171,13 +171,9 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
       const size_t nm = static_cast<size_t>(m);
       for (size_t j = 0; j < nm; ++j)
         ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
-      atomistic::FamilyState st;
-      st.type = body.type[static_cast<size_t>(k)];
-      st.size = m;
-      st.neighbor_type = ntype.data();
-      st.bond = bonds.data() + 3 * b0;
-      st.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-      st.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      const atomistic::FamilyState st =
+          atomistic::family_state(fam, static_cast<size_t>(k), body.type[static_cast<size_t>(k)],
+                                  ntype.data(), bonds.data() + 3 * b0);
       if (pot.pairwise()) {
         // ψ_k = ½ Σ_j φ(r_kj): t_kj depends on Y_kj alone, A_jm = 0 for j ≠ m, and the
         // diagonal block is the tangent of the one-bond family {j} (O(n) instead of O(n²)).

@@ -76,6 +76,22 @@ inline void family_bond_vectors(const Families& f, std::span<const double> x, st
   }
 }
 
+/// Atom k's family as a potential sees it: the centre's type type_k, the partners' types and
+/// the bonds from the caller (one type and 3 values a bond, in family order), and the
+/// families' pair factors and bond types of k.
+inline FamilyState family_state(const Families& f, std::size_t k, int type_k,
+                                const int* neighbor_type, const double* bond) {
+  const auto b0 = static_cast<std::size_t>(f.offset[k]);
+  FamilyState s;
+  s.type = type_k;
+  s.size = f.offset[k + 1] - f.offset[k];
+  s.neighbor_type = neighbor_type;
+  s.bond = bond;
+  s.pair_factor = f.pair_factor.empty() ? nullptr : f.pair_factor.data() + b0;
+  s.bond_type = f.bond_type.empty() ? nullptr : f.bond_type.data() + b0;
+  return s;
+}
+
 /// Atom k's family at positions y (box matrix h_y) as a potential sees it: the bonds Y_b of
 /// bond_vector and the partners' types, gathered into this scratch (reused from call to call),
 /// and the families' pair factors and bond types. The state points into the scratch: valid
@@ -95,14 +111,7 @@ struct FamilyGather {
       for (int a = 0; a < 3; ++a) bond[3 * (b - b0) + static_cast<std::size_t>(a)] = v[a];
       neighbor_type[b - b0] = type[static_cast<std::size_t>(f.neighbor[b])];
     }
-    FamilyState s;
-    s.type = type[k];
-    s.size = static_cast<std::int64_t>(m);
-    s.neighbor_type = neighbor_type.data();
-    s.bond = bond.data();
-    s.pair_factor = f.pair_factor.empty() ? nullptr : f.pair_factor.data() + b0;
-    s.bond_type = f.bond_type.empty() ? nullptr : f.bond_type.data() + b0;
-    return s;
+    return family_state(f, k, type[k], neighbor_type.data(), bond.data());
   }
 };
 
