@@ -54,6 +54,16 @@ std::string TripleTable::triple_name(int i, int j, int k) const {
          elements[static_cast<std::size_t>(k)];
 }
 
+InputError pair_style_argument_error(const PotentialSpec& spec, std::string_view style,
+                                     const std::string& value, std::string_view expected) {
+  return InputError("Illegal pair_style " + std::string(style) + " command")
+      .source(spec.source)
+      .line(spec.pair_style_line)
+      .key("pair_style " + std::string(style))
+      .value(value)
+      .expected(expected);
+}
+
 InputError entry_error(const TripleTable& t, int i, int j, int k, std::string problem) {
   InputError e(std::move(problem));
   e.source(t.file).line(t.line[t.index(i, j, k)]).key(t.triple_name(i, j, k));

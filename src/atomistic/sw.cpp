@@ -110,12 +110,8 @@ class StillingerWeber final : public Potential {
         ++k;
         continue;
       }
-      throw InputError("Illegal pair_style sw command")
-          .source(spec.source)
-          .line(spec.pair_style_line)
-          .key("pair_style sw")
-          .value(a[k])
-          .expected("no argument, or 'threebody on' / 'threebody off'");
+      throw pair_style_argument_error(spec, "sw", a[k],
+                                      "no argument, or 'threebody on' / 'threebody off'");
     }
     if (!threebody_) style_ = "sw threebody off";
     const TripleFormat format{
@@ -123,31 +119,24 @@ class StillingerWeber final : public Potential {
         "Stillinger-Weber",
         {"epsilon", "sigma", "a", "lambda", "gamma", "costheta0", "A", "B", "p", "q", "tol"}};
     const TripleTable table = read_triple_table(spec, format);
-    const int ne = table.nelements();
-    params_.resize(table.values.size() / table.nvalues);
-    for (int i = 0; i < ne; ++i)
-      for (int j = 0; j < ne; ++j)
-        for (int k = 0; k < ne; ++k) {
-          const double* v = table.entry(i, j, k);
-          Param& p = params_[table.index(i, j, k)];
-          p.epsilon = v[0] * table.energy_factor;
-          p.sigma = v[1];
-          p.littlea = v[2];
-          p.lambda = v[3];
-          p.gamma = v[4];
-          p.costheta = v[5];
-          p.biga = v[6];
-          p.bigb = v[7];
-          p.powerp = v[8];
-          p.powerq = v[9];
-          p.tol = v[10];
-          if (p.epsilon < 0.0 || p.sigma < 0.0 || p.littlea < 0.0 || p.lambda < 0.0 ||
-              p.gamma < 0.0 || p.biga < 0.0 || p.bigb < 0.0 || p.powerp < 0.0 || p.powerq < 0.0 ||
-              p.tol < 0.0)
-            throw entry_error(table, i, j, k, "Illegal Stillinger-Weber parameter")
-                .expected("epsilon, sigma, a, lambda, gamma, A, B, p, q, tol all >= 0");
-          setup(p);
-        }
+    for_each_entry(table, params_, [&](int i, int j, int k, const double* v, Param& p) {
+      p.epsilon = v[0] * table.energy_factor;
+      p.sigma = v[1];
+      p.littlea = v[2];
+      p.lambda = v[3];
+      p.gamma = v[4];
+      p.costheta = v[5];
+      p.biga = v[6];
+      p.bigb = v[7];
+      p.powerp = v[8];
+      p.powerq = v[9];
+      p.tol = v[10];
+      if (p.epsilon < 0.0 || p.sigma < 0.0 || p.littlea < 0.0 || p.lambda < 0.0 || p.gamma < 0.0 ||
+          p.biga < 0.0 || p.bigb < 0.0 || p.powerp < 0.0 || p.powerq < 0.0 || p.tol < 0.0)
+        throw entry_error(table, i, j, k, "Illegal Stillinger-Weber parameter")
+            .expected("epsilon, sigma, a, lambda, gamma, A, B, p, q, tol all >= 0");
+      setup(p);
+    });
     check_symmetry(table);
     cutmax_ = 0.0;
     for (const Param& p : params_) cutmax_ = std::max(cutmax_, std::sqrt(p.cutsq));

@@ -194,57 +194,47 @@ class Tersoff final : public Potential {
         ++k;
         continue;
       }
-      throw InputError("Illegal pair_style tersoff command")
-          .source(spec.source)
-          .line(spec.pair_style_line)
-          .key("pair_style tersoff")
-          .value(a[k])
-          .expected("no argument, or 'shift DELTA'");
+      throw pair_style_argument_error(spec, "tersoff", a[k], "no argument, or 'shift DELTA'");
     }
     const TripleFormat format{"tersoff",
                               "Tersoff",
                               {"m", "gamma", "lambda3", "c", "d", "costheta0", "n", "beta",
                                "lambda2", "B", "R", "D", "lambda1", "A"}};
     const TripleTable table = read_triple_table(spec, format);
+    for_each_entry(table, params_, [&](int i, int j, int k, const double* v, Param& p) {
+      p.powerm = v[0];
+      p.gamma = v[1];
+      p.lam3 = v[2];
+      p.c = v[3];
+      p.d = v[4];
+      p.h = v[5];
+      p.powern = v[6];
+      p.beta = v[7];
+      p.lam2 = v[8];
+      p.bigb = v[9] * table.energy_factor;
+      p.bigr = v[10];
+      p.bigd = v[11];
+      p.lam1 = v[12];
+      p.biga = v[13] * table.energy_factor;
+      p.powermint = static_cast<int>(p.powerm);
+      // PairTersoff::read_file
+      if (p.c < 0.0 || p.d < 0.0 || p.powern < 0.0 || p.beta < 0.0 || p.lam2 < 0.0 ||
+          p.bigb < 0.0 || p.bigr < 0.0 || p.bigd < 0.0 || p.bigd > p.bigr || p.lam1 < 0.0 ||
+          p.biga < 0.0 || p.powerm - p.powermint != 0.0 || (p.powermint != 3 && p.powermint != 1) ||
+          p.gamma < 0.0)
+        throw entry_error(table, i, j, k, "Illegal Tersoff parameter")
+            .expected(
+                "m = 1 or 3; c, d, n, beta, lambda2, B, R, D <= R, lambda1, A, gamma "
+                ">= 0");
+      // PairTersoff::setup_params
+      p.cut = p.bigr + p.bigd;
+      p.cutsq = p.cut * p.cut;
+      p.c1 = std::pow(2.0 * p.powern * 1.0e-16, -1.0 / p.powern);
+      p.c2 = std::pow(2.0 * p.powern * 1.0e-8, -1.0 / p.powern);
+      p.c3 = 1.0 / p.c2;
+      p.c4 = 1.0 / p.c1;
+    });
     const int ne = table.nelements();
-    params_.resize(table.values.size() / table.nvalues);
-    for (int i = 0; i < ne; ++i)
-      for (int j = 0; j < ne; ++j)
-        for (int k = 0; k < ne; ++k) {
-          const double* v = table.entry(i, j, k);
-          Param& p = params_[table.index(i, j, k)];
-          p.powerm = v[0];
-          p.gamma = v[1];
-          p.lam3 = v[2];
-          p.c = v[3];
-          p.d = v[4];
-          p.h = v[5];
-          p.powern = v[6];
-          p.beta = v[7];
-          p.lam2 = v[8];
-          p.bigb = v[9] * table.energy_factor;
-          p.bigr = v[10];
-          p.bigd = v[11];
-          p.lam1 = v[12];
-          p.biga = v[13] * table.energy_factor;
-          p.powermint = static_cast<int>(p.powerm);
-          // PairTersoff::read_file
-          if (p.c < 0.0 || p.d < 0.0 || p.powern < 0.0 || p.beta < 0.0 || p.lam2 < 0.0 ||
-              p.bigb < 0.0 || p.bigr < 0.0 || p.bigd < 0.0 || p.bigd > p.bigr || p.lam1 < 0.0 ||
-              p.biga < 0.0 || p.powerm - p.powermint != 0.0 ||
-              (p.powermint != 3 && p.powermint != 1) || p.gamma < 0.0)
-            throw entry_error(table, i, j, k, "Illegal Tersoff parameter")
-                .expected(
-                    "m = 1 or 3; c, d, n, beta, lambda2, B, R, D <= R, lambda1, A, gamma "
-                    ">= 0");
-          // PairTersoff::setup_params
-          p.cut = p.bigr + p.bigd;
-          p.cutsq = p.cut * p.cut;
-          p.c1 = std::pow(2.0 * p.powern * 1.0e-16, -1.0 / p.powern);
-          p.c2 = std::pow(2.0 * p.powern * 1.0e-8, -1.0 / p.powern);
-          p.c3 = 1.0 / p.c2;
-          p.c4 = 1.0 / p.c1;
-        }
     // LAMMPS computes V_R of a pair once, with the entry of whichever atom its tag parity
     // picks: entries (i, j, j) and (j, i, i) that differ there give id-dependent results.
     // pdcg gives each atom half of V_R with its own entry (the mean) and says so.
