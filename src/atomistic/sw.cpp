@@ -25,7 +25,6 @@ namespace pdcg::atomistic::detail {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// Partners of one atom within the largest cutoff r_c that force_state handles (stack
 /// arrays: it allocates nothing). 512 within r_c = 3.77 Å is ≈ 45× the density of Si; a
 /// family beyond it gets NaN (reported by the callers' finiteness checks).
@@ -399,25 +398,13 @@ class StillingerWeber final : public Potential {
         pidx_[static_cast<std::size_t>((i * n1_ + j) * n1_ + k)])];
   }
 
-  bool bad_types(const FamilyState& f) const {
-    if (f.type < 1 || f.type > ntypes_) return true;
-    for (std::int64_t b = 0; b < f.size; ++b)
-      if (f.neighbor_type[b] < 1 || f.neighbor_type[b] > ntypes_) return true;
-    return false;
-  }
-
   /// ψ_k and t (kTangent: t is scratch and K is filled).
   template <bool kTangent>
   double evaluate(const FamilyState& f, double* t, double* K) const {
     const std::int64_t n = f.size;
-    std::fill(t, t + 3 * n, 0.0);
-    if constexpr (kTangent) std::fill(K, K + 9 * n * n, 0.0);
-    auto poison = [&]() {
-      std::fill(t, t + 3 * n, kNaN);
-      if constexpr (kTangent) std::fill(K, K + 9 * n * n, kNaN);
-      return kNaN;
-    };
-    if (bad_types(f)) return poison();
+    const FamilyOutput<kTangent> out{t, K, n};
+    out.zero();
+    if (!family_types_valid(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
     // bonds within the largest cutoff
@@ -428,7 +415,7 @@ class StillingerWeber final : public Potential {
       const double* y = Y + 3 * b;
       const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
       if (rsq < cutmaxsq_) {
-        if (nn == kMaxNear) return poison();
+        if (nn == kMaxNear) return out.poison();
         near[nn] = b;
         near_rsq[nn++] = rsq;
       }

@@ -29,7 +29,6 @@ namespace pdcg::atomistic::detail {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 constexpr double MY_PI2 = kPi / 2.0;  // LAMMPS math_const MY_PI2, MY_PI4
 constexpr double MY_PI4 = kPi / 4.0;
@@ -521,16 +520,9 @@ class Tersoff final : public Potential {
   template <bool kTangent>
   double evaluate(const FamilyState& f, double* t, double* K, double* work) const {
     const std::int64_t n = f.size;
-    std::fill(t, t + 3 * n, 0.0);
-    if constexpr (kTangent) std::fill(K, K + 9 * n * n, 0.0);
-    auto poison = [&]() {
-      std::fill(t, t + 3 * n, kNaN);
-      if constexpr (kTangent) std::fill(K, K + 9 * n * n, kNaN);
-      return kNaN;
-    };
-    if (f.type < 1 || f.type > ntypes_) return poison();
-    for (std::int64_t b = 0; b < n; ++b)
-      if (f.neighbor_type[b] < 1 || f.neighbor_type[b] > ntypes_) return poison();
+    const FamilyOutput<kTangent> out{t, K, n};
+    out.zero();
+    if (!family_types_valid(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
     // bonds with r̃ = r + δ below the largest cutoff; r̃ kept
@@ -543,7 +535,7 @@ class Tersoff final : public Potential {
       if (rsq >= reachsq_) continue;
       const double r = std::sqrt(rsq) + shift_;
       if (r * r < cutmaxsq_) {
-        if (nn == kMaxNear) return poison();
+        if (nn == kMaxNear) return out.poison();
         near[nn] = b;
         near_r[nn++] = r;
       }
@@ -594,7 +586,7 @@ class Tersoff final : public Potential {
         if (wsq >= reachsq_) continue;  // beyond every cutoff: no sqrt, no entry lookup
         const double rw = std::sqrt(wsq) + shift_;
         if (rw * rw >= cutmaxsq_ || rw * rw >= P(tj, tk, f.neighbor_type[l]).cutsq) continue;
-        if (nl == kMaxNear) return poison();
+        if (nl == kMaxNear) return out.poison();
         list[nl++] = l;
       }
       psi += bond_order_term<kTangent>(
