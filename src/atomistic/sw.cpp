@@ -403,8 +403,7 @@ class StillingerWeber final : public Potential {
   double evaluate(const FamilyState& f, double* t, double* K) const {
     const std::int64_t n = f.size;
     const FamilyOutput<kTangent> out{t, K, n};
-    out.zero();
-    if (!family_types_valid(f, ntypes_)) return out.poison();
+    if (!out.start(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
     // bonds within the largest cutoff
