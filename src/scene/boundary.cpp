@@ -13,9 +13,6 @@ using solver::Vec3;
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 class Boundary final : public Component {
  public:
   std::vector<Section> sections() const override { return {{"boundary", 40, 40}}; }

@@ -13,9 +13,6 @@ using solver::Vec3;
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 // `geometry: {shape: model, file: res.h5}` (docs/solver.md §2.1): the points (and volumes) of a
 // model file; surface vectors and spacing from solver::analyse_cloud. Read at load time so a
 // bad file is an input error with its line.

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,6 +21,10 @@
 #include "pdcg/scene/scene.hpp"
 
 namespace pdcg::scene {
+
+/// Shorthands of the components' number rules: the unbounded limit and the rule kinds.
+inline constexpr double inf = std::numeric_limits<double>::infinity();
+using K = NumberRule::Kind;
 
 struct Ctx {
   std::string file;
