@@ -365,13 +365,7 @@ double force_states(const Potential& potential, const Families& fam, std::span<c
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) errors.capture([&] {
     const auto i = static_cast<std::size_t>(ii);
     const auto b0 = static_cast<std::size_t>(fam.offset[i]);
-    FamilyState f;
-    f.type = type[i];
-    f.size = fam.offset[i + 1] - fam.offset[i];
-    f.neighbor_type = ntype.data() + b0;
-    f.bond = bonds.data() + 3 * b0;
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const FamilyState f = family_state(fam, i, type[i], ntype.data() + b0, bonds.data() + 3 * b0);
     psi[i] = potential.force_state(f, t.data() + 3 * b0);
     total += psi[i];
   });

@@ -133,6 +133,21 @@ std::string trim(std::string s) {
   return s.substr(b, e - b + 1);
 }
 
+/// A new liblammps instance with no log, screen or citation output. liblammps sets the OpenMP
+/// thread count of the process; the caller's is restored.
+void* open_quiet_lammps() {
+#ifdef _OPENMP
+  const int threads = omp_get_max_threads();
+#endif
+  const char* args[] = {"pdcg", "-log", "none", "-screen", "none", "-nocite"};
+  void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#endif
+  if (!lmp) throw InputError("liblammps failed to start").fix("check the LAMMPS installation");
+  return lmp;
+}
+
 }  // namespace
 #endif
 
@@ -375,15 +390,7 @@ LammpsEngine::LammpsEngine(PotentialSpec spec) : impl_(std::make_unique<Impl>())
   if (native_pair && native_bond && spec.ntypes > 0) (void)make_potential(spec);
   // Styles this liblammps knows (checked on a throw-away instance).
   {
-#ifdef _OPENMP
-    const int threads = omp_get_max_threads();
-#endif
-    const char* args[] = {"pdcg", "-log", "none", "-screen", "none", "-nocite"};
-    void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
-#ifdef _OPENMP
-    omp_set_num_threads(threads);
-#endif
-    if (!lmp) throw InputError("liblammps failed to start").fix("check the LAMMPS installation");
+    void* lmp = open_quiet_lammps();
     auto missing = [&](const char* category, const std::string& style) {
       return !style.empty() && !lammps_has_style(lmp, category, style.c_str());
     };
@@ -618,15 +625,7 @@ LammpsResult LammpsEngine::energy_derivatives(const Atoms& atoms, double step,
   // LAMMPS errors stop the process inside liblammps: run the script in `lmp` first
   check_lammps_commands(script, spec, "evaluating the configuration");
 
-#ifdef _OPENMP
-  const int threads = omp_get_max_threads();
-#endif
-  const char* args[] = {"pdcg", "-log", "none", "-screen", "none", "-nocite"};
-  void* lmp = lammps_open_no_mpi(6, const_cast<char**>(args), nullptr);
-#ifdef _OPENMP
-  omp_set_num_threads(threads);
-#endif
-  if (!lmp) throw InputError("liblammps failed to start").fix("check the LAMMPS installation");
+  void* lmp = open_quiet_lammps();
   struct Close {
     void* h;
     ~Close() { lammps_close(h); }

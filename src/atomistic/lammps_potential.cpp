@@ -38,8 +38,6 @@ namespace {
 
 std::string g17(double v) { return fmt::format("{:.17g}", v); }
 
-bool molecular_style(const std::string& s) { return s != "atomic" && s != "charge"; }
-
 /// The spec the clusters run: the user's pair part only (molecular bonds are added natively,
 /// special_bonds factors come from the families' pair factors).
 PotentialSpec pair_part(const PotentialSpec& spec) {
@@ -423,14 +421,7 @@ std::unique_ptr<Potential> make_lammps_potential(const PotentialSpec& spec) {
         spec.source, spec.atom_style);
   std::unique_ptr<Potential> bonds;
   if (!spec.bond_style.empty()) {
-    if (!molecular_style(spec.atom_style))
-      throw InputError("bond_style needs an atom style with bonds")
-          .source(spec.source)
-          .line(spec.bond_style_line)
-          .key("atom_style")
-          .value(spec.atom_style)
-          .expected("atom_style bond, angle, molecular or full")
-          .fix("add `atom_style full` (or the style of the data file) to the potential commands");
+    // an atom style with bonds: LammpsEngine(spec) above requires one
     if (!native_bond_style(spec.bond_style))
       throw InputError("bond style with an embedded-LAMMPS pair style must be native")
           .source(spec.source)

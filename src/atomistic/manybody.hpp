@@ -4,6 +4,9 @@
 /// "Three-body and bond-order styles", gives ψ_k, the force states and the tangents.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "pdcg/atomistic/potential.hpp"
@@ -14,5 +17,36 @@ namespace pdcg::atomistic::detail {
 std::unique_ptr<Potential> make_stillinger_weber(const PotentialSpec& spec);
 /// `pair_style tersoff [shift δ]` (PairTersoff).
 std::unique_ptr<Potential> make_tersoff(const PotentialSpec& spec);
+
+/// The centre's and the partners' types of the family are all within 1..ntypes.
+inline bool family_types_valid(const FamilyState& f, int ntypes) {
+  if (f.type < 1 || f.type > ntypes) return false;
+  for (std::int64_t b = 0; b < f.size; ++b)
+    if (f.neighbor_type[b] < 1 || f.neighbor_type[b] > ntypes) return false;
+  return true;
+}
+
+/// The outputs of one family evaluation: the force state t (3n values) and, with kTangent,
+/// the tangent K (9n²).
+template <bool kTangent>
+struct FamilyOutput {
+  double* t;
+  double* K;
+  std::int64_t n;
+  /// The start of an evaluation of family f: zeroes t (and K); false when a type of f is
+  /// outside 1..ntypes (the caller returns poison()).
+  bool start(const FamilyState& f, int ntypes) const {
+    std::fill(t, t + 3 * n, 0.0);
+    if constexpr (kTangent) std::fill(K, K + 9 * n * n, 0.0);
+    return family_types_valid(f, ntypes);
+  }
+  /// NaN in t (and K), and NaN to return as ψ_k: a family the style cannot evaluate.
+  double poison() const {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    std::fill(t, t + 3 * n, nan);
+    if constexpr (kTangent) std::fill(K, K + 9 * n * n, nan);
+    return nan;
+  }
+};
 
 }  // namespace pdcg::atomistic::detail

@@ -36,9 +36,32 @@ std::string units_tag(const std::string& first_line) {
 
 }  // namespace
 
+std::vector<int> TripleTable::type_triple_index(int ntypes) const {
+  const int n1 = ntypes + 1;
+  std::vector<int> out(static_cast<std::size_t>(n1 * n1 * n1), 0);
+  for (int ti = 1; ti <= ntypes; ++ti)
+    for (int tj = 1; tj <= ntypes; ++tj)
+      for (int tk = 1; tk <= ntypes; ++tk)
+        out[static_cast<std::size_t>((ti * n1 + tj) * n1 + tk)] =
+            static_cast<int>(index(element_of_type[static_cast<std::size_t>(ti)],
+                                   element_of_type[static_cast<std::size_t>(tj)],
+                                   element_of_type[static_cast<std::size_t>(tk)]));
+  return out;
+}
+
 std::string TripleTable::triple_name(int i, int j, int k) const {
   return elements[static_cast<std::size_t>(i)] + " " + elements[static_cast<std::size_t>(j)] + " " +
          elements[static_cast<std::size_t>(k)];
+}
+
+InputError pair_style_argument_error(const PotentialSpec& spec, std::string_view style,
+                                     const std::string& value, std::string_view expected) {
+  return InputError("Illegal pair_style " + std::string(style) + " command")
+      .source(spec.source)
+      .line(spec.pair_style_line)
+      .key("pair_style " + std::string(style))
+      .value(value)
+      .expected(expected);
 }
 
 InputError entry_error(const TripleTable& t, int i, int j, int k, std::string problem) {

@@ -54,11 +54,30 @@ struct TripleTable {
   }
   /// "Si C C" for messages.
   std::string triple_name(int i, int j, int k) const;
+  /// The entry index of each type triple (ti, tj, tk), t = 1..ntypes, at
+  /// (ti·(ntypes+1) + tj)·(ntypes+1) + tk (0 where a type is 0).
+  std::vector<int> type_triple_index(int ntypes) const;
 };
 
 /// Reads the parameter file of the (last) pair_coeff command of `spec` for a style whose
 /// entries hold `format.names.size()` values after the three element names.
 TripleTable read_triple_table(const PotentialSpec& spec, const TripleFormat& format);
+
+/// Calls entry(i, j, k, v, p) for every element triple (i, j, k) of the table, i slowest: v its
+/// values, p its parameter slot in params (resized to one slot per triple).
+template <class Param, class Entry>
+void for_each_entry(const TripleTable& table, std::vector<Param>& params, Entry&& entry) {
+  const int ne = table.nelements();
+  params.resize(table.values.size() / table.nvalues);
+  for (int i = 0; i < ne; ++i)
+    for (int j = 0; j < ne; ++j)
+      for (int k = 0; k < ne; ++k)
+        entry(i, j, k, table.entry(i, j, k), params[table.index(i, j, k)]);
+}
+
+/// "Illegal pair_style STYLE command" about the argument `value` of the spec's pair_style line.
+InputError pair_style_argument_error(const PotentialSpec& spec, std::string_view style,
+                                     const std::string& value, std::string_view expected);
 
 /// An InputError about the value `name` of the entry (i, j, k), naming the file and its line.
 InputError entry_error(const TripleTable& table, int i, int j, int k, std::string problem);

@@ -135,6 +135,7 @@ struct TypeTable {
   C& operator()(int i, int j) { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
   const C& operator()(int i, int j) const { return v[static_cast<std::size_t>(i * (n + 1) + j)]; }
   char& is_set(int i, int j) { return set[static_cast<std::size_t>(i * (n + 1) + j)]; }
+  char is_set(int i, int j) const { return set[static_cast<std::size_t>(i * (n + 1) + j)]; }
 };
 
 double global_cutoff(const PotentialSpec& spec, std::string_view style) {
@@ -186,10 +187,12 @@ void check_args(const PotentialSpec& spec, const CoeffLine& c, std::size_t lo, s
         .expected(usage);
 }
 
-void require_all_set(const PotentialSpec& spec, const std::vector<char>& diag_set,
-                     std::string_view style) {
+/// Every type t has its own pair_coeff t t (is_set of the table marks the pairs the lines
+/// gave; the mixed I ≠ J pairs follow from these).
+template <class C>
+void require_all_set(const PotentialSpec& spec, const TypeTable<C>& table, std::string_view style) {
   for (int t = 1; t <= spec.ntypes; ++t)
-    if (!diag_set[static_cast<std::size_t>(t)])
+    if (!table.is_set(t, t))
       throw InputError("pair coefficients missing for an atom type")
           .source(spec.source)
           .key("pair_coeff")
@@ -214,9 +217,7 @@ TypeTable<LJCut::Coeff> build_lj(const PotentialSpec& spec, double& cutmax) {
       eps.is_set(i, j) = 1;
     });
   }
-  std::vector<char> diag(static_cast<std::size_t>(n + 1), 0);
-  for (int t = 1; t <= n; ++t) diag[static_cast<std::size_t>(t)] = eps.is_set(t, t);
-  require_all_set(spec, diag, "lj/cut");
+  require_all_set(spec, eps, "lj/cut");
   TypeTable<LJCut::Coeff> out(n);
   cutmax = 0.0;
   for (int i = 1; i <= n; ++i)
@@ -301,9 +302,7 @@ TypeTable<Zero::Coeff> build_zero(const PotentialSpec& spec, double& cutmax) {
       cut.is_set(i, j) = 1;
     });
   }
-  std::vector<char> diag(static_cast<std::size_t>(n + 1), 0);
-  for (int t = 1; t <= n; ++t) diag[static_cast<std::size_t>(t)] = cut.is_set(t, t);
-  require_all_set(spec, diag, "zero");
+  require_all_set(spec, cut, "zero");
   TypeTable<Zero::Coeff> out(n);
   cutmax = 0.0;
   for (int i = 1; i <= n; ++i)
@@ -889,17 +888,10 @@ class EamModel final : public Potential {
           spline_of(e_.rhor_spline, e_.type2rhor[static_cast<std::size_t>(jt * n1 + kt)], mm);
       const double* c2 =
           spline_of(e_.z2r_spline, e_.type2z2r[static_cast<std::size_t>(kt * n1 + jt)], mm);
-      const double g = (c1[0] * q + c1[1]) * q + c1[2];
-      const double gp = cl ? 0.0 : (2.0 * c1[0] * q + c1[1]) * e_.rdr;
-      const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
-      const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
-      const double z2pp = cl ? 0.0 : (2.0 * c2[0] * q + c2[1]) * e_.rdr;
-      const double recip = 1.0 / r;
-      const double phi = z2 * recip;
-      const double phip = z2p * recip - phi * recip;
-      const double phipp = (z2pp - 2.0 * phip) * recip;  // (rφ)'' = rφ'' + 2φ'
-      const double T = fp * g + 0.5 * phip;
-      const double Tp = fp * gp + 0.5 * phipp;
+      const eam::PairTerms pt = eam::pair_terms(c1, c2, q, cl, r, e_.rdr);
+      const double g = pt.g, recip = 1.0 / r;
+      const double T = fp * g + 0.5 * pt.phip;
+      const double Tp = fp * pt.gp + 0.5 * pt.phipp;
       add_radial_block(K + static_cast<std::size_t>((b * n + b) * 9), y, T * recip,
                        (Tp * recip - T * recip * recip) * recip);
       for (int a = 0; a < 3; ++a) u[3 * b + a] = g * y[a] * recip;

@@ -25,7 +25,6 @@ namespace pdcg::atomistic::detail {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// Partners of one atom within the largest cutoff r_c that force_state handles (stack
 /// arrays: it allocates nothing). 512 within r_c = 3.77 Å is ≈ 45× the density of Si; a
 /// family beyond it gets NaN (reported by the callers' finiteness checks).
@@ -110,12 +109,8 @@ class StillingerWeber final : public Potential {
         ++k;
         continue;
       }
-      throw InputError("Illegal pair_style sw command")
-          .source(spec.source)
-          .line(spec.pair_style_line)
-          .key("pair_style sw")
-          .value(a[k])
-          .expected("no argument, or 'threebody on' / 'threebody off'");
+      throw pair_style_argument_error(spec, "sw", a[k],
+                                      "no argument, or 'threebody on' / 'threebody off'");
     }
     if (!threebody_) style_ = "sw threebody off";
     const TripleFormat format{
@@ -123,44 +118,30 @@ class StillingerWeber final : public Potential {
         "Stillinger-Weber",
         {"epsilon", "sigma", "a", "lambda", "gamma", "costheta0", "A", "B", "p", "q", "tol"}};
     const TripleTable table = read_triple_table(spec, format);
-    const int ne = table.nelements();
-    params_.resize(table.values.size() / table.nvalues);
-    for (int i = 0; i < ne; ++i)
-      for (int j = 0; j < ne; ++j)
-        for (int k = 0; k < ne; ++k) {
-          const double* v = table.entry(i, j, k);
-          Param& p = params_[table.index(i, j, k)];
-          p.epsilon = v[0] * table.energy_factor;
-          p.sigma = v[1];
-          p.littlea = v[2];
-          p.lambda = v[3];
-          p.gamma = v[4];
-          p.costheta = v[5];
-          p.biga = v[6];
-          p.bigb = v[7];
-          p.powerp = v[8];
-          p.powerq = v[9];
-          p.tol = v[10];
-          if (p.epsilon < 0.0 || p.sigma < 0.0 || p.littlea < 0.0 || p.lambda < 0.0 ||
-              p.gamma < 0.0 || p.biga < 0.0 || p.bigb < 0.0 || p.powerp < 0.0 || p.powerq < 0.0 ||
-              p.tol < 0.0)
-            throw entry_error(table, i, j, k, "Illegal Stillinger-Weber parameter")
-                .expected("epsilon, sigma, a, lambda, gamma, A, B, p, q, tol all >= 0");
-          setup(p);
-        }
+    for_each_entry(table, params_, [&](int i, int j, int k, const double* v, Param& p) {
+      p.epsilon = v[0] * table.energy_factor;
+      p.sigma = v[1];
+      p.littlea = v[2];
+      p.lambda = v[3];
+      p.gamma = v[4];
+      p.costheta = v[5];
+      p.biga = v[6];
+      p.bigb = v[7];
+      p.powerp = v[8];
+      p.powerq = v[9];
+      p.tol = v[10];
+      if (p.epsilon < 0.0 || p.sigma < 0.0 || p.littlea < 0.0 || p.lambda < 0.0 || p.gamma < 0.0 ||
+          p.biga < 0.0 || p.bigb < 0.0 || p.powerp < 0.0 || p.powerq < 0.0 || p.tol < 0.0)
+        throw entry_error(table, i, j, k, "Illegal Stillinger-Weber parameter")
+            .expected("epsilon, sigma, a, lambda, gamma, A, B, p, q, tol all >= 0");
+      setup(p);
+    });
     check_symmetry(table);
     cutmax_ = 0.0;
     for (const Param& p : params_) cutmax_ = std::max(cutmax_, std::sqrt(p.cutsq));
     cutmaxsq_ = cutmax_ * cutmax_;
     // type triple → parameter index
-    pidx_.assign(static_cast<std::size_t>(n1_ * n1_ * n1_), 0);
-    for (int ti = 1; ti <= ntypes_; ++ti)
-      for (int tj = 1; tj <= ntypes_; ++tj)
-        for (int tk = 1; tk <= ntypes_; ++tk)
-          pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tk)] =
-              static_cast<int>(table.index(table.element_of_type[static_cast<std::size_t>(ti)],
-                                           table.element_of_type[static_cast<std::size_t>(tj)],
-                                           table.element_of_type[static_cast<std::size_t>(tk)]));
+    pidx_ = table.type_triple_index(ntypes_);
   }
 
   std::string style() const override { return style_; }
@@ -417,25 +398,12 @@ class StillingerWeber final : public Potential {
         pidx_[static_cast<std::size_t>((i * n1_ + j) * n1_ + k)])];
   }
 
-  bool bad_types(const FamilyState& f) const {
-    if (f.type < 1 || f.type > ntypes_) return true;
-    for (std::int64_t b = 0; b < f.size; ++b)
-      if (f.neighbor_type[b] < 1 || f.neighbor_type[b] > ntypes_) return true;
-    return false;
-  }
-
   /// ψ_k and t (kTangent: t is scratch and K is filled).
   template <bool kTangent>
   double evaluate(const FamilyState& f, double* t, double* K) const {
     const std::int64_t n = f.size;
-    std::fill(t, t + 3 * n, 0.0);
-    if constexpr (kTangent) std::fill(K, K + 9 * n * n, 0.0);
-    auto poison = [&]() {
-      std::fill(t, t + 3 * n, kNaN);
-      if constexpr (kTangent) std::fill(K, K + 9 * n * n, kNaN);
-      return kNaN;
-    };
-    if (bad_types(f)) return poison();
+    const FamilyOutput<kTangent> out{t, K, n};
+    if (!out.start(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
     // bonds within the largest cutoff
@@ -446,7 +414,7 @@ class StillingerWeber final : public Potential {
       const double* y = Y + 3 * b;
       const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
       if (rsq < cutmaxsq_) {
-        if (nn == kMaxNear) return poison();
+        if (nn == kMaxNear) return out.poison();
         near[nn] = b;
         near_rsq[nn++] = rsq;
       }

@@ -29,7 +29,6 @@ namespace pdcg::atomistic::detail {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 constexpr double MY_PI2 = kPi / 2.0;  // LAMMPS math_const MY_PI2, MY_PI4
 constexpr double MY_PI4 = kPi / 4.0;
@@ -194,57 +193,47 @@ class Tersoff final : public Potential {
         ++k;
         continue;
       }
-      throw InputError("Illegal pair_style tersoff command")
-          .source(spec.source)
-          .line(spec.pair_style_line)
-          .key("pair_style tersoff")
-          .value(a[k])
-          .expected("no argument, or 'shift DELTA'");
+      throw pair_style_argument_error(spec, "tersoff", a[k], "no argument, or 'shift DELTA'");
     }
     const TripleFormat format{"tersoff",
                               "Tersoff",
                               {"m", "gamma", "lambda3", "c", "d", "costheta0", "n", "beta",
                                "lambda2", "B", "R", "D", "lambda1", "A"}};
     const TripleTable table = read_triple_table(spec, format);
+    for_each_entry(table, params_, [&](int i, int j, int k, const double* v, Param& p) {
+      p.powerm = v[0];
+      p.gamma = v[1];
+      p.lam3 = v[2];
+      p.c = v[3];
+      p.d = v[4];
+      p.h = v[5];
+      p.powern = v[6];
+      p.beta = v[7];
+      p.lam2 = v[8];
+      p.bigb = v[9] * table.energy_factor;
+      p.bigr = v[10];
+      p.bigd = v[11];
+      p.lam1 = v[12];
+      p.biga = v[13] * table.energy_factor;
+      p.powermint = static_cast<int>(p.powerm);
+      // PairTersoff::read_file
+      if (p.c < 0.0 || p.d < 0.0 || p.powern < 0.0 || p.beta < 0.0 || p.lam2 < 0.0 ||
+          p.bigb < 0.0 || p.bigr < 0.0 || p.bigd < 0.0 || p.bigd > p.bigr || p.lam1 < 0.0 ||
+          p.biga < 0.0 || p.powerm - p.powermint != 0.0 || (p.powermint != 3 && p.powermint != 1) ||
+          p.gamma < 0.0)
+        throw entry_error(table, i, j, k, "Illegal Tersoff parameter")
+            .expected(
+                "m = 1 or 3; c, d, n, beta, lambda2, B, R, D <= R, lambda1, A, gamma "
+                ">= 0");
+      // PairTersoff::setup_params
+      p.cut = p.bigr + p.bigd;
+      p.cutsq = p.cut * p.cut;
+      p.c1 = std::pow(2.0 * p.powern * 1.0e-16, -1.0 / p.powern);
+      p.c2 = std::pow(2.0 * p.powern * 1.0e-8, -1.0 / p.powern);
+      p.c3 = 1.0 / p.c2;
+      p.c4 = 1.0 / p.c1;
+    });
     const int ne = table.nelements();
-    params_.resize(table.values.size() / table.nvalues);
-    for (int i = 0; i < ne; ++i)
-      for (int j = 0; j < ne; ++j)
-        for (int k = 0; k < ne; ++k) {
-          const double* v = table.entry(i, j, k);
-          Param& p = params_[table.index(i, j, k)];
-          p.powerm = v[0];
-          p.gamma = v[1];
-          p.lam3 = v[2];
-          p.c = v[3];
-          p.d = v[4];
-          p.h = v[5];
-          p.powern = v[6];
-          p.beta = v[7];
-          p.lam2 = v[8];
-          p.bigb = v[9] * table.energy_factor;
-          p.bigr = v[10];
-          p.bigd = v[11];
-          p.lam1 = v[12];
-          p.biga = v[13] * table.energy_factor;
-          p.powermint = static_cast<int>(p.powerm);
-          // PairTersoff::read_file
-          if (p.c < 0.0 || p.d < 0.0 || p.powern < 0.0 || p.beta < 0.0 || p.lam2 < 0.0 ||
-              p.bigb < 0.0 || p.bigr < 0.0 || p.bigd < 0.0 || p.bigd > p.bigr || p.lam1 < 0.0 ||
-              p.biga < 0.0 || p.powerm - p.powermint != 0.0 ||
-              (p.powermint != 3 && p.powermint != 1) || p.gamma < 0.0)
-            throw entry_error(table, i, j, k, "Illegal Tersoff parameter")
-                .expected(
-                    "m = 1 or 3; c, d, n, beta, lambda2, B, R, D <= R, lambda1, A, gamma "
-                    ">= 0");
-          // PairTersoff::setup_params
-          p.cut = p.bigr + p.bigd;
-          p.cutsq = p.cut * p.cut;
-          p.c1 = std::pow(2.0 * p.powern * 1.0e-16, -1.0 / p.powern);
-          p.c2 = std::pow(2.0 * p.powern * 1.0e-8, -1.0 / p.powern);
-          p.c3 = 1.0 / p.c2;
-          p.c4 = 1.0 / p.c1;
-        }
     // LAMMPS computes V_R of a pair once, with the entry of whichever atom its tag parity
     // picks: entries (i, j, j) and (j, i, i) that differ there give id-dependent results.
     // pdcg gives each atom half of V_R with its own entry (the mean) and says so.
@@ -278,14 +267,7 @@ class Tersoff final : public Potential {
     for (const Param& p : params_) cutmax_ = std::max(cutmax_, p.cut);
     cutmaxsq_ = cutmax_ * cutmax_;
     reachsq_ = std::max(cutmax_ - shift_, 0.0) * std::max(cutmax_ - shift_, 0.0);
-    pidx_.assign(static_cast<std::size_t>(n1_ * n1_ * n1_), 0);
-    for (int ti = 1; ti <= ntypes_; ++ti)
-      for (int tj = 1; tj <= ntypes_; ++tj)
-        for (int tk = 1; tk <= ntypes_; ++tk)
-          pidx_[static_cast<std::size_t>((ti * n1_ + tj) * n1_ + tk)] =
-              static_cast<int>(table.index(table.element_of_type[static_cast<std::size_t>(ti)],
-                                           table.element_of_type[static_cast<std::size_t>(tj)],
-                                           table.element_of_type[static_cast<std::size_t>(tk)]));
+    pidx_ = table.type_triple_index(ntypes_);
   }
 
   std::string style() const override { return style_; }
@@ -538,16 +520,8 @@ class Tersoff final : public Potential {
   template <bool kTangent>
   double evaluate(const FamilyState& f, double* t, double* K, double* work) const {
     const std::int64_t n = f.size;
-    std::fill(t, t + 3 * n, 0.0);
-    if constexpr (kTangent) std::fill(K, K + 9 * n * n, 0.0);
-    auto poison = [&]() {
-      std::fill(t, t + 3 * n, kNaN);
-      if constexpr (kTangent) std::fill(K, K + 9 * n * n, kNaN);
-      return kNaN;
-    };
-    if (f.type < 1 || f.type > ntypes_) return poison();
-    for (std::int64_t b = 0; b < n; ++b)
-      if (f.neighbor_type[b] < 1 || f.neighbor_type[b] > ntypes_) return poison();
+    const FamilyOutput<kTangent> out{t, K, n};
+    if (!out.start(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
     // bonds with r̃ = r + δ below the largest cutoff; r̃ kept
@@ -560,7 +534,7 @@ class Tersoff final : public Potential {
       if (rsq >= reachsq_) continue;
       const double r = std::sqrt(rsq) + shift_;
       if (r * r < cutmaxsq_) {
-        if (nn == kMaxNear) return poison();
+        if (nn == kMaxNear) return out.poison();
         near[nn] = b;
         near_r[nn++] = r;
       }
@@ -611,7 +585,7 @@ class Tersoff final : public Potential {
         if (wsq >= reachsq_) continue;  // beyond every cutoff: no sqrt, no entry lookup
         const double rw = std::sqrt(wsq) + shift_;
         if (rw * rw >= cutmaxsq_ || rw * rw >= P(tj, tk, f.neighbor_type[l]).cutsq) continue;
-        if (nl == kMaxNear) return poison();
+        if (nl == kMaxNear) return out.poison();
         list[nl++] = l;
       }
       psi += bond_order_term<kTangent>(

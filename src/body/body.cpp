@@ -284,21 +284,23 @@ class RescaledPotential final : public atomistic::Potential {
   int ntypes() const override { return base_->ntypes(); }
   bool pairwise() const override { return base_->pairwise(); }
   double force_state(const atomistic::FamilyState& family, double* t) const override {
-    // Thread-local buffer: grows to the largest family once per thread, then never allocates.
-    thread_local std::vector<double> z;
     const auto n3 = static_cast<std::size_t>(3 * family.size);
-    if (z.size() < n3) z.resize(n3);
-    const double inv = 1.0 / eps_;
-    for (std::size_t i = 0; i < n3; ++i) z[i] = inv * family.bond[i];
-    atomistic::FamilyState f = family;
-    f.bond = z.data();
-    const double psi = base_->force_state(f, t);
+    const double psi = base_->force_state(base_state(family), t);
     for (std::size_t i = 0; i < n3; ++i) t[i] *= t_scale_;
     return psi_scale_ * psi;
   }
   /// K_ε(Y') = ∂t_ε/∂Y' = ε^(d−2) K(ε⁻¹Y'), forwarded to the base's (analytic) tangent.
   void force_state_tangent(const atomistic::FamilyState& family, double* K,
                            double* workspace) const override {
+    base_->force_state_tangent(base_state(family), K, workspace);
+    const auto nk = static_cast<std::size_t>(9 * family.size * family.size);
+    for (std::size_t i = 0; i < nk; ++i) K[i] *= k_scale_;
+  }
+
+ private:
+  /// The family with its bonds ε⁻¹Y' (the base potential's bonds), held in a thread-local
+  /// buffer that grows to the largest family once per thread, then never allocates.
+  atomistic::FamilyState base_state(const atomistic::FamilyState& family) const {
     thread_local std::vector<double> z;
     const auto n3 = static_cast<std::size_t>(3 * family.size);
     if (z.size() < n3) z.resize(n3);
@@ -306,12 +308,9 @@ class RescaledPotential final : public atomistic::Potential {
     for (std::size_t i = 0; i < n3; ++i) z[i] = inv * family.bond[i];
     atomistic::FamilyState f = family;
     f.bond = z.data();
-    base_->force_state_tangent(f, K, workspace);
-    const auto nk = static_cast<std::size_t>(9 * family.size * family.size);
-    for (std::size_t i = 0; i < nk; ++i) K[i] *= k_scale_;
+    return f;
   }
 
- private:
   std::shared_ptr<const atomistic::Potential> base_;
   double eps_, psi_scale_, t_scale_, k_scale_ = std::pow(eps_, -1) * t_scale_;
 };
@@ -383,13 +382,8 @@ Evaluation Evaluator::run(std::span<const double> y, const Eigen::Matrix3d& h_y,
         yb[3 * (b - b0) + 1] = v[1];
         yb[3 * (b - b0) + 2] = v[2];
       }
-      atomistic::FamilyState f;
-      f.type = body_.type[i];
-      f.size = fam.offset[i + 1] - fam.offset[i];
-      f.neighbor_type = ntype_.data() + b0;
-      f.bond = yb.data();
-      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      const atomistic::FamilyState f =
+          atomistic::family_state(fam, i, body_.type[i], ntype_.data() + b0, yb.data());
       psi_[i] = pot.force_state(f, t_.data() + 3 * b0);
       total += psi_[i];
     });

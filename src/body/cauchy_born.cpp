@@ -17,6 +17,24 @@
 
 namespace pdcg::body {
 
+namespace {
+
+/// Each atom's weight in the body's energy: w_k = Σ_p w_kp over the homogenisation points p
+/// (homogenised body, in the order of the points), else 1.
+std::vector<double> atom_weights(const Body& body) {
+  std::vector<double> wk(body.size(), 1.0);
+  if (!body.homogenisation) return wk;
+  const auto& h = *body.homogenisation;
+  std::fill(wk.begin(), wk.end(), 0.0);
+  for (std::size_t q = 0; q < h.size(); ++q)
+    for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
+      wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
+          h.weight[static_cast<std::size_t>(c)];
+  return wk;
+}
+
+}  // namespace
+
 CauchyBorn::CauchyBorn(const Body& body, IonRelaxation ion) : body_(body) {
   static std::atomic<std::uint64_t> next_id{1};
   id_ = next_id.fetch_add(1);
@@ -92,15 +110,7 @@ CauchyBorn::CauchyBorn(const Body& body, IonRelaxation ion) : body_(body) {
   }
   classes_ = classes.size();
   // per-class weights of evaluate(): w_k = Σ_p w_kp (homogenised) or 1
-  std::vector<double> wk(body.size(), 1.0);
-  if (body.homogenisation) {
-    const auto& h = *body.homogenisation;
-    std::fill(wk.begin(), wk.end(), 0.0);
-    for (std::size_t q = 0; q < h.size(); ++q)
-      for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
-        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
-            h.weight[static_cast<std::size_t>(c)];
-  }
+  const std::vector<double> wk = atom_weights(body);
   std::map<std::int32_t, std::size_t> slot;
   for (std::size_t k = 0; k < body.size(); ++k) {
     const auto [it, fresh] = slot.emplace(representative_[k], reps_.size());
@@ -221,13 +231,9 @@ void CauchyBorn::family(std::int64_t k, const Eigen::Matrix3d& F, bool tangent, 
       s.Y[3 * bb + static_cast<std::size_t>(i)] =
           F(i, 0) * xi[3 * b] + F(i, 1) * xi[3 * b + 1] + F(i, 2) * xi[3 * b + 2];
   }
-  atomistic::FamilyState f;
-  f.type = body_.type[static_cast<std::size_t>(k)];
-  f.size = n;
-  f.neighbor_type = s.nt.data();
-  f.bond = s.Y.data();
-  f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-  f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+  const atomistic::FamilyState f =
+      atomistic::family_state(fam, static_cast<std::size_t>(k),
+                              body_.type[static_cast<std::size_t>(k)], s.nt.data(), s.Y.data());
   psi = pot.force_state(f, s.t.data());
   std::fill(pk, pk + 9, 0.0);
   for (std::int64_t b = 0; b < n; ++b)
@@ -298,13 +304,9 @@ void CauchyBorn::family_shifted(std::size_t slot, const Eigen::Matrix3d& F, cons
                                                   F(i, 2) * xi[3 * b + 2] + shift[3 * c + i] -
                                                   shift[3 * a + i];
   }
-  atomistic::FamilyState f;
-  f.type = body_.type[static_cast<std::size_t>(k)];
-  f.size = n;
-  f.neighbor_type = s.nt.data();
-  f.bond = s.Y.data();
-  f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-  f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+  const atomistic::FamilyState f =
+      atomistic::family_state(fam, static_cast<std::size_t>(k),
+                              body_.type[static_cast<std::size_t>(k)], s.nt.data(), s.Y.data());
   out.E += w * pot.force_state(f, s.t.data());
   for (std::int64_t b = 0; b < n; ++b) {
     const int c = site[1 + b];
@@ -540,16 +542,8 @@ CauchyBornState CauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) con
   // Homogenised bodies: W = Σ_p E_p / V₀ = Σ_k (Σ_p w_kp) ψ_k / V₀ (the point energies add
   // up to the body's energy; V₀ is the body's volume, not Σ_p V_p, which differs from it on a
   // grid incommensurate with a periodic box).
-  std::vector<double> wk(N, 1.0);
+  const std::vector<double> wk = atom_weights(body_);
   const double V = body_.reference_volume();
-  if (body_.homogenisation) {
-    const auto& h = *body_.homogenisation;
-    std::fill(wk.begin(), wk.end(), 0.0);
-    for (std::size_t q = 0; q < h.size(); ++q)
-      for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
-        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
-            h.weight[static_cast<std::size_t>(c)];
-  }
   for (std::size_t k = 0; k < N; ++k) {
     accumulate(s, wk[k], psi[k], p.data() + 9 * k, tangent ? a.data() + 81 * k : nullptr);
   }

@@ -44,31 +44,17 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
   // H_{j_b j_c} += K_bc, H_{k j_c} −= K_bc, H_{j_b k} −= K_bc, H_{kk} += K_bc. Serial (scatter).
   Eigen::MatrixXd H =
       Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(dim));
-  std::vector<double> yb, K, work, t;
-  std::vector<int> ntype;
+  std::vector<double> K, work, t;
+  atomistic::FamilyGather gather;
   double U = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
-    const auto b0 = static_cast<std::size_t>(fam.offset[k]),
-               b1 = static_cast<std::size_t>(fam.offset[k + 1]);
-    const std::size_t m = b1 - b0;
+    const auto b0 = static_cast<std::size_t>(fam.offset[k]);
+    const std::size_t m = static_cast<std::size_t>(fam.offset[k + 1]) - b0;
     if (m == 0) continue;
-    yb.resize(3 * m);
-    ntype.resize(m);
     K.resize(9 * m * m);
     t.resize(3 * m);
     work.resize(atomistic::Potential::tangent_workspace(static_cast<std::int64_t>(m)));
-    for (std::size_t b = b0; b < b1; ++b) {
-      const Eigen::Vector3d v = atomistic::bond_vector(fam, y, hy, k, b);
-      for (int a = 0; a < 3; ++a) yb[3 * (b - b0) + static_cast<std::size_t>(a)] = v[a];
-      ntype[b - b0] = body.type[static_cast<std::size_t>(fam.neighbor[b])];
-    }
-    atomistic::FamilyState f;
-    f.type = body.type[k];
-    f.size = static_cast<std::int64_t>(m);
-    f.neighbor_type = ntype.data();
-    f.bond = yb.data();
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const atomistic::FamilyState f = gather(fam, body.type, y, hy, k);
     U += pot.force_state(f, t.data());
     pot.force_state_tangent(f, K.data(), work.data());
     const auto ik = static_cast<Eigen::Index>(3 * k);

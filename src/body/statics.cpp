@@ -240,22 +240,26 @@ StaticsResult relax(const Body& body, std::vector<double>& y, const StaticsOptio
         .value(fmt::format("{}", dmax))
         .expected("a body with bonds, or an explicit max step");
   double fn2 = dot(f, f);
-  auto done = [&] { return std::sqrt(fn2) <= o.force_tolerance; };
+  // the stopping tests at the top of every iteration (both styles): sets r.stop (and
+  // r.converged) when one holds
+  auto stopped = [&] {
+    if (std::sqrt(fn2) <= o.force_tolerance) {
+      r.converged = true;
+      r.stop = "force tolerance";
+      return true;
+    }
+    if (r.iterations >= o.max_iterations) {
+      r.stop = "max iterations";
+      return true;
+    }
+    return false;
+  };
 
   if (o.style == MinStyle::cg) {
     h = f;
     double alpha_prev = std::numeric_limits<double>::infinity();
     bool steepest = true;
-    while (true) {
-      if (done()) {
-        r.converged = true;
-        r.stop = "force tolerance";
-        break;
-      }
-      if (r.iterations >= o.max_iterations) {
-        r.stop = "max iterations";
-        break;
-      }
+    while (!stopped()) {
       double d0 = -dot(f, h);
       if (!(d0 < 0.0)) {
         h = f;
@@ -305,16 +309,7 @@ StaticsResult relax(const Body& body, std::vector<double>& y, const StaticsOptio
     double dt = 0.1 * dt_max, a = 0.1;
     int npos = 0;
     std::fill(v.begin(), v.end(), 0.0);
-    while (true) {
-      if (done()) {
-        r.converged = true;
-        r.stop = "force tolerance";
-        break;
-      }
-      if (r.iterations >= o.max_iterations) {
-        r.stop = "max iterations";
-        break;
-      }
+    while (!stopped()) {
       const double P = dot(f, v);
       if (P > 0.0) {
         const double vn = std::sqrt(dot(v, v)), fn = std::sqrt(fn2);

@@ -184,30 +184,17 @@ Statistics einstein_statistics(const Body& body, double temperature, std::string
   // to their partner's H (not a hot loop: once per body).
   std::vector<Eigen::Matrix3d> H(n, Eigen::Matrix3d::Zero());
   std::vector<double> nearest(n, std::numeric_limits<double>::infinity());
-  std::vector<double> yb, K, work;
-  std::vector<int> ntype;
+  std::vector<double> K, work;
+  atomistic::FamilyGather gather;
   for (std::size_t i = 0; i < n; ++i) {
-    const auto b0 = static_cast<std::size_t>(fam.offset[i]),
-               b1 = static_cast<std::size_t>(fam.offset[i + 1]);
-    const std::size_t m = b1 - b0;
+    const auto b0 = static_cast<std::size_t>(fam.offset[i]);
+    const std::size_t m = static_cast<std::size_t>(fam.offset[i + 1]) - b0;
     if (m == 0) continue;
-    yb.resize(3 * m);
-    ntype.resize(m);
     K.resize(9 * m * m);
     work.resize(atomistic::Potential::tangent_workspace(static_cast<std::int64_t>(m)));
-    for (std::size_t b = b0; b < b1; ++b) {
-      const Eigen::Vector3d v = atomistic::bond_vector(fam, body.x, fam.h, i, b);
-      for (int k = 0; k < 3; ++k) yb[3 * (b - b0) + static_cast<std::size_t>(k)] = v[k];
-      ntype[b - b0] = body.type[static_cast<std::size_t>(fam.neighbor[b])];
-      nearest[i] = std::min(nearest[i], v.norm());
-    }
-    atomistic::FamilyState f;
-    f.type = body.type[i];
-    f.size = static_cast<std::int64_t>(m);
-    f.neighbor_type = ntype.data();
-    f.bond = yb.data();
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const atomistic::FamilyState f = gather(fam, body.type, body.x, fam.h, i);
+    for (std::size_t b = 0; b < m; ++b)
+      nearest[i] = std::min(nearest[i], Eigen::Map<const Eigen::Vector3d>(f.bond + 3 * b).norm());
     pot.force_state_tangent(f, K.data(), work.data());
     auto block = [&](std::size_t j, std::size_t l) {
       return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(K.data() +
@@ -386,13 +373,8 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
       const Eigen::Vector3d v = atomistic::bond_vector(fam, ys, h_y, i, b);
       for (int k = 0; k < 3; ++k) yb[3 * (b - b0) + static_cast<std::size_t>(k)] = v[k];
     }
-    atomistic::FamilyState f;
-    f.type = body.type[i];
-    f.size = static_cast<std::int64_t>(b1 - b0);
-    f.neighbor_type = sc.ntype.data() + b0;
-    f.bond = yb.data();
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const atomistic::FamilyState f =
+        atomistic::family_state(fam, i, body.type[i], sc.ntype.data() + b0, yb.data());
     const double psi = pot.force_state(f, tb.data());
     psi_out[i] += weight * psi;
     for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * tb[c - 3 * b0];

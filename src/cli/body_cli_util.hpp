@@ -40,6 +40,22 @@ inline std::vector<double> numbers(const std::string& text, std::size_t n,
   return v;
 }
 
+/// A deformation gradient from an option value: 9 numbers, row-major F11 F12 F13 F21 … F33,
+/// with det F > 0.
+inline Eigen::Matrix3d deformation_gradient(const std::string& text, std::string_view option) {
+  const auto v = numbers(text, 9, option);
+  Eigen::Matrix3d F;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) F(r, c) = v[static_cast<std::size_t>(3 * r + c)];
+  if (!(F.determinant() > 0.0))
+    throw InputError("deformation gradient with det F ≤ 0")
+        .source(option)
+        .value(fmt::format("{} (det F = {:.6g})", text, F.determinant()))
+        .expected("det F > 0 (row-major F11 F12 F13 F21 … F33)")
+        .fix("the identity is \"1 0 0 0 1 0 0 0 1\"");
+  return F;
+}
+
 /// Frame selection and reading: the library's (atomistic/configurations.hpp), with the CLI's
 /// option names --frame and --frames.
 using FrameRange = atomistic::FrameSelection;

@@ -24,16 +24,7 @@ struct Options {
 
 int run(const Options& o) {
   using namespace pdcg;
-  const auto v = cli::body_util::numbers(o.F, 9, "--F");
-  Eigen::Matrix3d F;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) F(r, c) = v[static_cast<std::size_t>(3 * r + c)];
-  if (!(F.determinant() > 0.0))
-    throw InputError("deformation gradient with det F ≤ 0")
-        .source("--F")
-        .value(fmt::format("{} (det F = {:.6g})", o.F, F.determinant()))
-        .expected("det F > 0 (row-major F11 F12 F13 F21 … F33)")
-        .fix("the identity is \"1 0 0 0 1 0 0 0 1\"");
+  const Eigen::Matrix3d F = cli::body_util::deformation_gradient(o.F, "--F");
   const body::Body b = body::read_body(o.body);
   body::Evaluator ev(b);
   const body::Evaluation e = ev.homogeneous(F);

@@ -32,7 +32,6 @@ KappaGrid point_omega_grid(const LinearisedFamilies& lin,
         .key("--grid")
         .expected("a body with at least one periodic direction")
         .fix("use --direction or --path");
-  const auto& fam = lin.families();
   const Eigen::Matrix3d Hinv = box.h_inverse();
   // Φ(R) as a map over the fractional coordinates of R (exact keys after rounding to 1e-9).
   struct Key {
@@ -49,20 +48,16 @@ KappaGrid point_omega_grid(const LinearisedFamilies& lin,
   double M = 0.0;
   for (const auto& [k, w] : atoms) {
     const auto kk = static_cast<std::size_t>(k);
-    const auto K = lin.tangent(kk);
-    if (K.empty()) throw Error("point_omega_grid: atom was not linearised");
-    const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
-    const double* xis = lin.bonds(kk).data();
+    const LinearisedFamilies::Atom at = lin.atom(kk, "point_omega_grid: atom was not linearised");
+    const std::int64_t n = at.n;
     auto xi = [&](std::int64_t b) {
-      const double* p = xis + 3 * b;
+      const double* p = at.xi + 3 * b;
       return Eigen::Vector3d(p[0], p[1], p[2]);
     };
     for (std::int64_t b = 0; b < n; ++b)
       for (std::int64_t c = 0; c < n; ++c) {
-        const double* p = K.data() + (b * n + c) * 9;
-        bool zero = true;
-        for (int i = 0; i < 9 && zero; ++i) zero = p[i] == 0.0;
-        if (zero) continue;
+        if (at.zero_block(b, c)) continue;
+        const double* p = at.block(b, c);
         Eigen::Matrix3d Kbc;
         for (int r = 0; r < 3; ++r)
           for (int q = 0; q < 3; ++q) Kbc(r, q) = w * p[3 * r + q];

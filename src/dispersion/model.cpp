@@ -48,13 +48,8 @@ LinearisedFamilies::LinearisedFamilies(const atomistic::Potential& potential,
   for (std::size_t k = 0; k < n; ++k) {
     if (start_[k] < 0) continue;
     const auto b0 = static_cast<std::size_t>(fam.offset[k]);
-    atomistic::FamilyState f;
-    f.type = type[k];
-    f.size = fam.offset[k + 1] - fam.offset[k];
-    f.neighbor_type = ntype.data() + b0;
-    f.bond = xi_.data() + bond_start_[k];
-    f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-    f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+    const atomistic::FamilyState f =
+        atomistic::family_state(fam, k, type[k], ntype.data() + b0, xi_.data() + bond_start_[k]);
     potential.force_state_tangent(f, k_.data() + start_[k], work.data());
   }
 }
@@ -71,13 +66,22 @@ std::span<const double> LinearisedFamilies::bonds(std::size_t k) const {
   return {xi_.data() + bond_start_[k], static_cast<std::size_t>(3 * nb)};
 }
 
+LinearisedFamilies::Atom LinearisedFamilies::atom(std::size_t k, const char* not_linearised) const {
+  if (start_[k] < 0) throw Error(not_linearised);
+  Atom a;
+  a.n = families_->offset[k + 1] - families_->offset[k];
+  a.K = k_.data() + start_[k];
+  a.xi = xi_.data() + bond_start_[k];
+  return a;
+}
+
 namespace {
 
 double signed_sqrt(double w2) { return w2 >= 0 ? std::sqrt(w2) : -std::sqrt(-w2); }
 
-Eigen::Matrix3d block(std::span<const double> K, std::int64_t n, std::int64_t b, std::int64_t c) {
+Eigen::Matrix3d block(const LinearisedFamilies::Atom& at, std::int64_t b, std::int64_t c) {
   Eigen::Matrix3d m;
-  const double* p = K.data() + (b * n + c) * 9;
+  const double* p = at.block(b, c);
   for (int a = 0; a < 3; ++a)
     for (int d = 0; d < 3; ++d) m(a, d) = p[3 * a + d];
   return m;
@@ -89,29 +93,23 @@ Eigen::Vector3d point_omega(const LinearisedFamilies& lin,
                             std::span<const std::pair<std::int32_t, double>> atoms,
                             std::span<const double> mass, const Eigen::Vector3d& kappa,
                             double mvv2e) {
-  const auto& fam = lin.families();
   Eigen::Matrix3cd D = Eigen::Matrix3cd::Zero();
   double M = 0.0;
   for (const auto& [k, w] : atoms) {
     const auto kk = static_cast<std::size_t>(k);
-    const auto K = lin.tangent(kk);
-    if (K.empty()) throw Error("point_omega: atom was not linearised");
-    const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
-    const double* xis = lin.bonds(kk).data();
+    const LinearisedFamilies::Atom at = lin.atom(kk, "point_omega: atom was not linearised");
+    const std::int64_t n = at.n;
     std::vector<cd> phase(static_cast<std::size_t>(n));
     for (std::int64_t b = 0; b < n; ++b) {
-      const double* xi = xis + 3 * b;
+      const double* xi = at.xi + 3 * b;
       const double arg = kappa[0] * xi[0] + kappa[1] * xi[1] + kappa[2] * xi[2];
       phase[static_cast<std::size_t>(b)] = cd(std::cos(arg) - 1.0, std::sin(arg));
     }
     for (std::int64_t b = 0; b < n; ++b)
       for (std::int64_t c = 0; c < n; ++c) {
-        const double* p = K.data() + (b * n + c) * 9;
-        bool zero = true;
-        for (int i = 0; i < 9 && zero; ++i) zero = p[i] == 0.0;
-        if (zero) continue;
+        if (at.zero_block(b, c)) continue;
         D += w * std::conj(phase[static_cast<std::size_t>(b)]) *
-             phase[static_cast<std::size_t>(c)] * block(K, n, b, c).cast<cd>();
+             phase[static_cast<std::size_t>(c)] * block(at, b, c).cast<cd>();
       }
     M += w * mass[kk];
   }
@@ -129,19 +127,18 @@ Eigen::VectorXd cell_omega(const LinearisedFamilies& lin, std::span<const double
   Eigen::MatrixXcd D = Eigen::MatrixXcd::Zero(3 * N, 3 * N);
   for (Eigen::Index k = 0; k < N; ++k) {
     const auto kk = static_cast<std::size_t>(k);
-    const auto K = lin.tangent(kk);
-    if (K.empty()) throw Error("cell_omega: every atom must be linearised");
-    const std::int64_t n = fam.offset[kk + 1] - fam.offset[kk];
+    const LinearisedFamilies::Atom at = lin.atom(kk, "cell_omega: every atom must be linearised");
+    const std::int64_t n = at.n;
     const auto b0 = static_cast<std::size_t>(fam.offset[kk]);
-    const double* xis = lin.bonds(kk).data();
+    const double* xis = at.xi;
     for (std::int64_t b = 0; b < n; ++b) {
       const std::size_t bb = b0 + static_cast<std::size_t>(b);
       const double* xb = xis + 3 * b;
       const cd eb = std::polar(1.0, kappa[0] * xb[0] + kappa[1] * xb[1] + kappa[2] * xb[2]);
       const Eigen::Index jb = fam.neighbor[bb];
       for (std::int64_t c = 0; c < n; ++c) {
-        const Eigen::Matrix3cd Kbc = block(K, n, b, c).cast<cd>();
-        if (Kbc.isZero(0.0)) continue;
+        if (at.zero_block(b, c)) continue;
+        const Eigen::Matrix3cd Kbc = block(at, b, c).cast<cd>();
         const std::size_t cc = b0 + static_cast<std::size_t>(c);
         const double* xc = xis + 3 * c;
         const cd ec = std::polar(1.0, kappa[0] * xc[0] + kappa[1] * xc[1] + kappa[2] * xc[2]);

@@ -95,17 +95,10 @@ void eam_family_rows(const atomistic::EamView& E, const body::Body& body, const 
     const double q = locate(r, E.rdr, E.nr, mm, cl);
     const double* c1 = E.rhor[static_cast<size_t>(jt * n1 + kt)] + 7 * mm;
     const double* c2 = E.z2r[static_cast<size_t>(kt * n1 + jt)] + 7 * mm;
-    const double g = (c1[0] * q + c1[1]) * q + c1[2];
-    const double gp = cl ? 0.0 : (2.0 * c1[0] * q + c1[1]) * E.rdr;
-    const double z2 = ((c2[3] * q + c2[4]) * q + c2[5]) * q + c2[6];
-    const double z2p = (c2[0] * q + c2[1]) * q + c2[2];
-    const double z2pp = cl ? 0.0 : (2.0 * c2[0] * q + c2[1]) * E.rdr;
-    const double recip = 1.0 / r;
-    const double phi = z2 * recip;
-    const double phip = z2p * recip - phi * recip;
-    const double phipp = (z2pp - 2.0 * phip) * recip;
-    const double T = fp * g + 0.5 * phip;
-    const double Tp = fp * gp + 0.5 * phipp;
+    const atomistic::eam::PairTerms pt = atomistic::eam::pair_terms(c1, c2, q, cl, r, E.rdr);
+    const double g = pt.g, recip = 1.0 / r;
+    const double T = fp * g + 0.5 * pt.phip;
+    const double Tp = fp * pt.gp + 0.5 * pt.phipp;
     const double sI = T * recip, cY = (Tp * recip - T * recip * recip) * recip;
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c) d[3 * a + c] += cY * y[a] * y[c] + (a == c ? sI : 0.0);
@@ -178,13 +171,9 @@ StableStep stable_time_step(const body::Body& body, std::span<const double> y) {
       const size_t nm = static_cast<size_t>(m);
       for (size_t j = 0; j < nm; ++j)
         ntype[j] = body.type[static_cast<size_t>(fam.neighbor[static_cast<size_t>(b0) + j])];
-      atomistic::FamilyState st;
-      st.type = body.type[static_cast<size_t>(k)];
-      st.size = m;
-      st.neighbor_type = ntype.data();
-      st.bond = bonds.data() + 3 * b0;
-      st.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b0;
-      st.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b0;
+      const atomistic::FamilyState st =
+          atomistic::family_state(fam, static_cast<size_t>(k), body.type[static_cast<size_t>(k)],
+                                  ntype.data(), bonds.data() + 3 * b0);
       if (pot.pairwise()) {
         // ψ_k = ½ Σ_j φ(r_kj): t_kj depends on Y_kj alone, A_jm = 0 for j ≠ m, and the
         // diagonal block is the tangent of the one-bond family {j} (O(n) instead of O(n²)).
@@ -603,17 +592,7 @@ bool VelocityVerlet::evaluate_manybody() {
     bool applicable = true;
     energy += pot.manybody_forces(lists, k0, k1, y, f, applicable);
     ok = ok && applicable;
-    fold_ghosts(f, 3);
-    if (used > 1) {
-#pragma omp barrier
-#pragma omp for schedule(static) nowait
-      for (std::int64_t i = 0; i < 3 * n; ++i) {
-        double sum = 0.0;
-        for (int th = 0; th < used; ++th)
-          sum += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-        f_[static_cast<size_t>(i)] = sum;
-      }
-    }
+    reduce_thread_forces(f, used);  // the last work of the region
   }
   if (!ok) return false;
   potential_ = energy;
@@ -630,6 +609,24 @@ void VelocityVerlet::update_ghosts() {
 #pragma omp for schedule(static)
   for (std::int64_t g = 0; g < ng; ++g)
     for (int c = 0; c < 3; ++c) yg[3 * g + c] = y[3 * a[g] + c] + s[3 * g + c];
+}
+
+/// Inside a parallel region of `used` threads, the last work of every thread: folds the ghost
+/// entries of this thread's force copy f, then (several threads) sums the copies thread_f_
+/// into f_, each thread a static slice of the 3n values, in thread order. No barrier at the
+/// end: the region's end is one.
+void VelocityVerlet::reduce_thread_forces(double* f, int used) {
+  fold_ghosts(f, 3);
+  if (used == 1) return;
+  const std::int64_t n3 = 3 * static_cast<std::int64_t>(body_.size());
+#pragma omp barrier
+#pragma omp for schedule(static) nowait
+  for (std::int64_t i = 0; i < n3; ++i) {
+    double s = 0.0;
+    for (int th = 0; th < used; ++th)
+      s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
+    f_[static_cast<size_t>(i)] = s;
+  }
 }
 
 /// Adds the ghost entries of one array (stride values per point) to their points (serial: a
@@ -792,17 +789,7 @@ void VelocityVerlet::evaluate_eam() {
       f[3 * k + 2] += fz;
       energy += e;
     }
-    fold_ghosts(f, 3);  // this thread's copy
-    if (used > 1) {
-#pragma omp barrier
-#pragma omp for schedule(static) nowait  // the region's end is the barrier
-      for (std::int64_t i = 0; i < 3 * n; ++i) {
-        double s = 0.0;
-        for (int th = 0; th < used; ++th)
-          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-        f_[static_cast<size_t>(i)] = s;
-      }
-    }
+    reduce_thread_forces(f, used);  // the last work of the region
   }
   potential_ = energy;
 }
@@ -867,18 +854,7 @@ void VelocityVerlet::evaluate_pairwise(bool with_energy) {
         for (int a = 0; a < 3; ++a) f[3 * k + a] += fk[a];
       }
     }
-    fold_ghosts(f, 3);  // this thread's copy
-    // reduce the thread copies (each thread a slice of the dofs)
-    if (used > 1) {
-#pragma omp barrier
-#pragma omp for schedule(static) nowait  // the region's end is the barrier
-      for (std::int64_t i = 0; i < 3 * n; ++i) {
-        double s = 0.0;
-        for (int th = 0; th < used; ++th)
-          s += thread_f_[static_cast<size_t>(th)][static_cast<size_t>(i)];
-        f_[static_cast<size_t>(i)] = s;
-      }
-    }
+    reduce_thread_forces(f, used);  // the last work of the region
   }
   potential_ = energy;
   potential_current_ = h.energy;

@@ -152,6 +152,52 @@ PDCG_EAM_TARGET inline Rows lanes(const double* table, const Block& B, const int
   return L;
 }
 
+/// What both passes read of the half lists and the tables, held as locals of the pass (the
+/// stores to rho and f would otherwise make the compiler reload them through h and R).
+struct Sweep {
+  const std::int64_t* offset;
+  const std::int32_t* neighbor;
+  const int* ntype;
+  const std::int32_t* pair_knot;
+  const int* type;
+  int n1;
+  __m256d cutsq, rdr;
+  __m128i nr1;
+};
+
+PDCG_EAM_TARGET inline Sweep sweep_of(const EamRows& R, const EamHalf& h) {
+  return {h.offset,
+          h.neighbor,
+          h.neighbor_type,
+          R.pair_knot.data(),
+          h.type,
+          R.ntypes + 1,
+          _mm256_set1_pd(R.cutsq),
+          _mm256_set1_pd(R.rdr),
+          _mm_set1_epi32(R.nr - 1)};
+}
+
+/// Point k of a pass: its position in the 4 lanes and (several types) the table offsets of
+/// its type pairs.
+struct Centre {
+  __m256d x, y, z;
+  const std::int32_t* pk;
+};
+
+template <bool kSingle>
+PDCG_EAM_TARGET inline Centre centre(const Sweep& S, const double* y, std::int64_t k) {
+  return {_mm256_set1_pd(y[3 * k]), _mm256_set1_pd(y[3 * k + 1]), _mm256_set1_pd(y[3 * k + 2]),
+          kSingle ? nullptr : S.pair_knot + S.type[k] * S.n1};
+}
+
+/// The block of the half bonds b..b+3 (of b1) of the centre C, and the lanes' rows of `table`.
+template <bool kSingle, int kStride>
+PDCG_EAM_TARGET inline Rows bonds(Block& B, const Sweep& S, const Centre& C, const double* table,
+                                  const double* y, std::int64_t b, std::int64_t b1) {
+  block<kStride>(B, y, S.neighbor + b, b1 - b, C.x, C.y, C.z, S.cutsq, S.rdr, S.nr1);
+  return lanes<kSingle, kStride>(table, B, S.ntype + b, C.pk);
+}
+
 PDCG_EAM_TARGET inline __m256d cubic(__m256d c3, __m256d c4, __m256d c5, __m256d c6, __m256d p) {
   return _mm256_fmadd_pd(_mm256_fmadd_pd(_mm256_fmadd_pd(c3, p, c4), p, c5), p, c6);
 }
@@ -160,26 +206,16 @@ template <bool kSingle>
 PDCG_EAM_TARGET void density(const EamRows& R, const EamHalf& h, std::int64_t k0, std::int64_t k1,
                              const double* y, double* rho) {
   constexpr int kStride = kSingle ? 4 : 8;
-  const __m256d cutsq = _mm256_set1_pd(R.cutsq), rdr = _mm256_set1_pd(R.rdr);
-  const __m128i nr1 = _mm_set1_epi32(R.nr - 1);
+  const Sweep S = sweep_of(R, h);
   const double* c = R.dens.data();
-  const int n1 = R.ntypes + 1;
-  const std::int64_t* const offset = h.offset;
-  const std::int32_t* const neighbor = h.neighbor;
-  const int* const ntype = h.neighbor_type;
-  const std::int32_t* const pair_knot = R.pair_knot.data();
-  const int* const type = h.type;
   for (std::int64_t k = k0; k < k1; ++k) {
-    const __m256d xk = _mm256_set1_pd(y[3 * k]), yk = _mm256_set1_pd(y[3 * k + 1]),
-                  zk = _mm256_set1_pd(y[3 * k + 2]);
-    const std::int32_t* pk = kSingle ? nullptr : pair_knot + type[k] * n1;
+    const Centre C = centre<kSingle>(S, y, k);
     __m256d acc = _mm256_setzero_pd();
-    const std::int64_t b1 = offset[k + 1];
-    for (std::int64_t b = offset[k]; b < b1; b += 4) {
-      const std::int32_t* nb = neighbor + b;
+    const std::int64_t b1 = S.offset[k + 1];
+    for (std::int64_t b = S.offset[k]; b < b1; b += 4) {
+      const std::int32_t* nb = S.neighbor + b;
       Block B;
-      block<kStride>(B, y, nb, b1 - b, xk, yk, zk, cutsq, rdr, nr1);
-      const Rows L = lanes<kSingle, kStride>(c, B, ntype + b, pk);
+      const Rows L = bonds<kSingle, kStride>(B, S, C, c, y, b, b1);
       __m256d a3, a4, a5, a6;
       columns(L, 0, a3, a4, a5, a6);
       const __m256d a = _mm256_and_pd(B.mask, cubic(a3, a4, a5, a6, B.p));  // ρ_{j→k}
@@ -205,31 +241,21 @@ template <bool kSingle>
 PDCG_EAM_TARGET double forces(const EamRows& R, const EamHalf& h, std::int64_t k0, std::int64_t k1,
                               const double* y, const double* fp, double* f) {
   constexpr int kStride = kSingle ? 8 : 12;
-  const __m256d cutsq = _mm256_set1_pd(R.cutsq), rdr = _mm256_set1_pd(R.rdr);
+  const Sweep S = sweep_of(R, h);
+  const __m256d rdr = S.rdr;
   const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
   const __m256d three = _mm256_set1_pd(3.0);
-  const __m128i nr1 = _mm_set1_epi32(R.nr - 1);
   const double* c = R.force.data();
-  const int n1 = R.ntypes + 1;
-  // local copies: the stores to f would otherwise make the compiler reload them
-  const std::int64_t* const offset = h.offset;
-  const std::int32_t* const neighbor = h.neighbor;
-  const int* const ntype = h.neighbor_type;
-  const std::int32_t* const pair_knot = R.pair_knot.data();
-  const int* const type = h.type;
   __m256d energy = _mm256_setzero_pd();
   for (std::int64_t k = k0; k < k1; ++k) {
-    const __m256d xk = _mm256_set1_pd(y[3 * k]), yk = _mm256_set1_pd(y[3 * k + 1]),
-                  zk = _mm256_set1_pd(y[3 * k + 2]);
+    const Centre C = centre<kSingle>(S, y, k);
     const __m256d fpk = _mm256_set1_pd(fp[k]);
-    const std::int32_t* pk = kSingle ? nullptr : pair_knot + type[k] * n1;
     __m256d fk = zero;  // (Σ s·(−Y), 0)
-    const std::int64_t b1 = offset[k + 1];
-    for (std::int64_t b = offset[k]; b < b1; b += 4) {
-      const std::int32_t* nb = neighbor + b;
+    const std::int64_t b1 = S.offset[k + 1];
+    for (std::int64_t b = S.offset[k]; b < b1; b += 4) {
+      const std::int32_t* nb = S.neighbor + b;
       Block B;
-      block<kStride>(B, y, nb, b1 - b, xk, yk, zk, cutsq, rdr, nr1);
-      const Rows L = lanes<kSingle, kStride>(c, B, ntype + b, pk);
+      const Rows L = bonds<kSingle, kStride>(B, S, C, c, y, b, b1);
       const __m256d p = B.p;
       const __m256d fpj = _mm256_setr_pd(fp[nb[0]], fp[nb[1]], fp[nb[2]], fp[nb[3]]);
       // rows: one type [ρ'0..2, z3 | z4..6, ·], several [ρ'_{j→k}0..2, ρ'_{k→j}0 | ρ'_{k→j}1..2,

@@ -33,25 +33,24 @@ struct PairProbe {
   const atomistic::Potential& pot;
   mutable std::vector<double> t = std::vector<double>(3), K = std::vector<double>(9),
                               w = std::vector<double>(atomistic::Potential::tangent_workspace(1));
-  void eval(int a, int b, double r, double& e, double& f) const {
-    const double y[3] = {r, 0.0, 0.0};
+  /// The family of an atom of type a with one bond y to a neighbour of type *b.
+  static atomistic::FamilyState one_bond(int a, const int* b, const double* y) {
     atomistic::FamilyState s;
     s.type = a;
     s.size = 1;
-    s.neighbor_type = &b;
+    s.neighbor_type = b;
     s.bond = y;
-    e = 2.0 * pot.force_state(s, t.data());
+    return s;
+  }
+  void eval(int a, int b, double r, double& e, double& f) const {
+    const double y[3] = {r, 0.0, 0.0};
+    e = 2.0 * pot.force_state(one_bond(a, &b, y), t.data());
     f = -2.0 * t[0];
   }
   /// dF/dr = −E''(r) = −2 K_xx (K = ½[E'' e⊗e + E'/r (I − e⊗e)]).
   double dforce(int a, int b, double r) const {
     const double y[3] = {r, 0.0, 0.0};
-    atomistic::FamilyState s;
-    s.type = a;
-    s.size = 1;
-    s.neighbor_type = &b;
-    s.bond = y;
-    pot.force_state_tangent(s, K.data(), w.data());
+    pot.force_state_tangent(one_bond(a, &b, y), K.data(), w.data());
     return -2.0 * K[0];
   }
 };

@@ -13,9 +13,6 @@ using solver::Vec3;
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 class Boundary final : public Component {
  public:
   std::vector<Section> sections() const override { return {{"boundary", 40, 40}}; }
@@ -99,11 +96,7 @@ class Boundary final : public Component {
   void resolve(const std::string&, Emitter& out, const Scene& s) const override {
     auto& y = out.yaml();
     const int d = s.dimension;
-    auto vec = [&](const Vec3& v) {
-      y << YAML::Flow << YAML::BeginSeq;
-      for (int a = 0; a < d; ++a) y << v(a);
-      y << YAML::EndSeq;
-    };
+    auto vec = [&](const Vec3& v) { emit_vec(y, v, d); };
     y << YAML::Key << "boundary" << YAML::Value << YAML::BeginSeq;
     const char* axes[3] = {"x", "y", "z"};
     for (const auto& bc : s.boundary) {

@@ -12,9 +12,6 @@ namespace pdcg::scene {
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 /// units, dimension, plane.
 class Basics final : public Component {
  public:

@@ -10,9 +10,6 @@ namespace pdcg::scene {
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 /// `inertia:` (explicit dynamics) and `initial:` (its initial velocities).
 class Inertia final : public Effect {
  public:

@@ -13,9 +13,6 @@ using solver::Vec3;
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 // `geometry: {shape: model, file: res.h5}` (docs/solver.md §2.1): the points (and volumes) of a
 // model file; surface vectors and spacing from solver::analyse_cloud. Read at load time so a
 // bad file is an input error with its line.
@@ -171,11 +168,7 @@ class Geometry final : public Component {
   void resolve(const std::string&, Emitter& out, const Scene& s) const override {
     auto& y = out.yaml();
     const int d = s.dimension;
-    auto vec = [&](const Vec3& v) {
-      y << YAML::Flow << YAML::BeginSeq;
-      for (int a = 0; a < d; ++a) y << v(a);
-      y << YAML::EndSeq;
-    };
+    auto vec = [&](const Vec3& v) { emit_vec(y, v, d); };
     y << YAML::Key << "geometry" << YAML::Value << YAML::BeginMap;
     if (s.model_geometry) {
       y << YAML::Key << "shape" << YAML::Value << "model" << YAML::Key << "file" << YAML::Value

@@ -10,9 +10,6 @@ namespace pdcg::scene {
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-using K = NumberRule::Kind;
-
 // `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
 // read here once so that a bad file, a statistical body or a dimension mismatch is an input
 // error of the scene (with its line), not a failure at run time.

@@ -174,4 +174,10 @@ Emitter& Emitter::value(const std::string& key, const std::string& v) {
   return *this;
 }
 
+void emit_vec(YAML::Emitter& y, const solver::Vec3& v, int dim) {
+  y << YAML::Flow << YAML::BeginSeq;
+  for (int a = 0; a < dim; ++a) y << v(a);
+  y << YAML::EndSeq;
+}
+
 }  // namespace pdcg::scene

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,6 +21,10 @@
 #include "pdcg/scene/scene.hpp"
 
 namespace pdcg::scene {
+
+/// Shorthands of the components' number rules: the unbounded limit and the rule kinds.
+inline constexpr double inf = std::numeric_limits<double>::infinity();
+using K = NumberRule::Kind;
 
 struct Ctx {
   std::string file;
@@ -50,5 +55,8 @@ std::vector<std::unique_ptr<Component>> core_components();
 /// The built-in registrations (called by the registries before their first use).
 void register_builtin_effects(const std::function<void(std::string, EffectFactory)>& add);
 void register_builtin_materials(const std::function<void(std::string, MaterialFactory)>& add);
+
+/// The first `dim` components of v as a flow sequence ([x, y] or [x, y, z]) of a resolved scene.
+void emit_vec(YAML::Emitter& y, const solver::Vec3& v, int dim);
 
 }  // namespace pdcg::scene

@@ -50,4 +50,30 @@ inline Embedding embedding(const double* row0, double rho, double rdrho, int nrh
   return e;
 }
 
+/// A bond's terms of the EAM tangent at length r: the density derivative g = ρ′(r) and its
+/// derivative g′, and the pair potential φ = (rφ)/r with φ′ and φ″, from the density row
+/// `rho_row` and the r·φ row `z2r_row` of the grid cell located at r (fraction p, `clamped`
+/// as locate() gives them; rdr = 1/dr). Past the table (clamped) the second derivatives g′
+/// and (rφ)″ are 0, as in LAMMPS.
+struct PairTerms {
+  double g, gp, phi, phip, phipp;
+};
+
+inline PairTerms pair_terms(const double* rho_row, const double* z2r_row, double p, bool clamped,
+                            double r, double rdr) {
+  const double* c1 = rho_row;
+  const double* c2 = z2r_row;
+  PairTerms t;
+  t.g = (c1[0] * p + c1[1]) * p + c1[2];
+  t.gp = clamped ? 0.0 : (2.0 * c1[0] * p + c1[1]) * rdr;
+  const double z2 = ((c2[3] * p + c2[4]) * p + c2[5]) * p + c2[6];
+  const double z2p = (c2[0] * p + c2[1]) * p + c2[2];
+  const double z2pp = clamped ? 0.0 : (2.0 * c2[0] * p + c2[1]) * rdr;
+  const double recip = 1.0 / r;
+  t.phi = z2 * recip;
+  t.phip = z2p * recip - t.phi * recip;
+  t.phipp = (z2pp - 2.0 * t.phip) * recip;  // (rφ)'' = rφ'' + 2φ'
+  return t;
+}
+
 }  // namespace pdcg::atomistic::eam

@@ -76,6 +76,45 @@ inline void family_bond_vectors(const Families& f, std::span<const double> x, st
   }
 }
 
+/// Atom k's family as a potential sees it: the centre's type type_k, the partners' types and
+/// the bonds from the caller (one type and 3 values a bond, in family order), and the
+/// families' pair factors and bond types of k.
+inline FamilyState family_state(const Families& f, std::size_t k, int type_k,
+                                const int* neighbor_type, const double* bond) {
+  const auto b0 = static_cast<std::size_t>(f.offset[k]);
+  FamilyState s;
+  s.type = type_k;
+  s.size = f.offset[k + 1] - f.offset[k];
+  s.neighbor_type = neighbor_type;
+  s.bond = bond;
+  s.pair_factor = f.pair_factor.empty() ? nullptr : f.pair_factor.data() + b0;
+  s.bond_type = f.bond_type.empty() ? nullptr : f.bond_type.data() + b0;
+  return s;
+}
+
+/// Atom k's family at positions y (box matrix h_y) as a potential sees it: the bonds Y_b of
+/// bond_vector and the partners' types, gathered into this scratch (reused from call to call),
+/// and the families' pair factors and bond types. The state points into the scratch: valid
+/// until the next call.
+struct FamilyGather {
+  std::vector<double> bond;
+  std::vector<int> neighbor_type;
+  FamilyState operator()(const Families& f, std::span<const int> type, std::span<const double> y,
+                         const Eigen::Matrix3d& h_y, std::size_t k) {
+    const auto b0 = static_cast<std::size_t>(f.offset[k]),
+               b1 = static_cast<std::size_t>(f.offset[k + 1]);
+    const std::size_t m = b1 - b0;
+    bond.resize(3 * m);
+    neighbor_type.resize(m);
+    for (std::size_t b = b0; b < b1; ++b) {
+      const Eigen::Vector3d v = bond_vector(f, y, h_y, k, b);
+      for (int a = 0; a < 3; ++a) bond[3 * (b - b0) + static_cast<std::size_t>(a)] = v[a];
+      neighbor_type[b - b0] = type[static_cast<std::size_t>(f.neighbor[b])];
+    }
+    return family_state(f, k, type[k], neighbor_type.data(), bond.data());
+  }
+};
+
 /// ξ of every bond (3 per bond) in a new array: for code outside hot loops that wants them all
 /// at once (the Families do not keep them).
 std::vector<double> bond_vectors(const Families& f, std::span<const double> x);

@@ -44,6 +44,23 @@ class LinearisedFamilies {
   /// for the linearised atoms only (3 n_k next to the 9 n_k² of K).
   std::span<const double> bonds(std::size_t k) const;
 
+  /// One linearised atom: its n bonds, the tangent blocks and the reference bonds.
+  struct Atom {
+    std::int64_t n = 0;          ///< bonds of the family
+    const double* K = nullptr;   ///< n² blocks of 9 (row-major), block (b, c) at 9(b n + c)
+    const double* xi = nullptr;  ///< 3n reference bonds ξ_b
+    const double* block(std::int64_t b, std::int64_t c) const { return K + (b * n + c) * 9; }
+    /// Block (b, c) is exactly zero (bonds b and c do not interact).
+    bool zero_block(std::int64_t b, std::int64_t c) const {
+      const double* p = block(b, c);
+      for (int i = 0; i < 9; ++i)
+        if (p[i] != 0.0) return false;
+      return true;
+    }
+  };
+  /// Atom k's linearisation; throws Error(not_linearised) if k was not linearised.
+  Atom atom(std::size_t k, const char* not_linearised) const;
+
  private:
   const atomistic::Families* families_;
   std::vector<std::int64_t> start_;       ///< per atom: start in k_ (−1 if absent)

@@ -125,6 +125,7 @@ class VelocityVerlet {
   void build_short_lists();
   void update_ghosts();
   void fold_ghosts(double* f, std::size_t stride) const;
+  void reduce_thread_forces(double* f, int used);
   const body::Body& body_;
   /// Pairwise potentials (ψ_k = ½Σφ, t_jk(−Y) = −t_kj(Y)): each pair once through a half
   /// family (f_k += 2t_kj, f_j −= 2t_kj, energy 2ψ_half) instead of both bonds and a gather.

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
@@ -29,23 +30,7 @@ using atomistic::Atoms;
 
 namespace {
 
-Atoms perfect_fcc(int n, double a) {
-  Atoms at;
-  at.box.hi = {n * a, n * a, n * a};
-  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& b : basis) {
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          at.x.push_back((i + b[0]) * a);
-          at.x.push_back((j + b[1]) * a);
-          at.x.push_back((k + b[2]) * a);
-        }
-  return at;
-}
+Atoms perfect_fcc(int n, double a) { return test::cubic_lattice(n, n, n, a, 4, 0.0, false, 0); }
 
 struct Model {
   atomistic::PotentialSpec spec;

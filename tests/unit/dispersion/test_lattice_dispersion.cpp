@@ -8,6 +8,7 @@
 #include <complex>
 #include <numbers>
 
+#include "../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/families.hpp"
 #include "pdcg/atomistic/lammps_engine.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
@@ -23,20 +24,8 @@ using namespace pdcg::dispersion;
 namespace {
 
 Atoms perfect_fcc(int n, double a, double mass) {
-  Atoms at;
-  at.box.lo = {0, 0, 0};
-  at.box.hi = {n * a, n * a, n * a};
+  Atoms at = test::cubic_lattice(n, n, n, a, 4, 0.0, false, 0);
   at.type_mass = {0.0, mass};
-  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& b : basis) {
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          at.x.insert(at.x.end(), {(i + b[0]) * a, (j + b[1]) * a, (k + b[2]) * a});
-        }
   return at;
 }
 

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/cauchy_born.hpp"
@@ -56,20 +57,9 @@ fs::path sheet_model() {
 }
 
 fs::path fcc_model() {
-  atomistic::Atoms at;
   const int n = 3;
   const double a = 1.56;
-  at.box.hi = {n * a, n * a, n * a};
-  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& bb : basis) {
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          at.x.insert(at.x.end(), {(i + bb[0]) * a, (j + bb[1]) * a, (k + bb[2]) * a});
-        }
+  atomistic::Atoms at = test::cubic_lattice(n, n, n, a, 4, 0.0, false, 0);
   const auto spec = atomistic::read_potential_commands_from_string(
       "units lj\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\nmass 1 1.0\n", "fcc", 1);
   const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "../../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/body.hpp"
@@ -68,20 +69,8 @@ double chain_omega(double k, double mu2) {
 body::Body fcc_lj_body() {
   const int n = 4;
   const double a = 1.5874010519681994;  // lattice fcc 1.0 in LJ units (ρ* = 1)
-  atomistic::Atoms at;
-  at.box.lo = {0, 0, 0};
-  at.box.hi = {n * a, n * a, n * a};
+  atomistic::Atoms at = test::cubic_lattice(n, n, n, a, 4, 0.0, false, 0);
   at.type_mass = {0.0, 1.0};
-  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  std::int64_t id = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& b : basis) {
-          at.id.push_back(++id);
-          at.type.push_back(1);
-          at.x.insert(at.x.end(), {(i + b[0]) * a, (j + b[1]) * a, (k + b[2]) * a});
-        }
   return make_body(at, "units lj\nmass 1 1.0\npair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0 2.5\n",
                    3);
 }
