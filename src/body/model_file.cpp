@@ -246,9 +246,13 @@ void write_body(const Body& b, const std::filesystem::path& path) {
 }
 
 Body read_body(const std::filesystem::path& path, const PotentialFactory& factory) {
-  io::H5Reader r(path);
+  const io::H5Reader file(path);
+  return read_body(file, factory);
+}
+
+Body read_body(const io::H5Reader& r, const PotentialFactory& factory) {
   r.require_format("pdcg-body", kBodySchemaVersion);
-  const std::string src = path.string();
+  const std::string src = r.path().string();
   auto need = [&](std::string_view item) {
     if (!r.exists(item))
       throw InputError("model file lacks a required item")
