@@ -355,9 +355,13 @@ pdcg::io::H5Image write_file(const Template& t, const std::vector<PostEdit>& pos
     if (e.remove) {
       H5Adelete_by_name(f, e.object.c_str(), e.name.c_str(), H5P_DEFAULT);
     } else {
-      hid_t a = H5Aopen_by_name(f, e.object.c_str(), e.name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
-      H5Awrite(a, H5T_NATIVE_INT64, &e.crc);
+      // through the open object: HDF5 1.10.8 refuses H5Awrite on an attribute opened with
+      // H5Aopen_by_name ("can't locate open attribute"), and the wrong checksum never landed
+      hid_t o = H5Oopen(f, e.object.c_str(), H5P_DEFAULT);
+      hid_t a = H5Aopen(o, e.name.c_str(), H5P_DEFAULT);
+      if (o < 0 || a < 0 || H5Awrite(a, H5T_NATIVE_INT64, &e.crc) < 0) std::abort();
       H5Aclose(a);
+      H5Oclose(o);
     }
   }
   if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) std::abort();
