@@ -202,12 +202,12 @@ std::int64_t fuzz_int(FuzzedDataProvider& in, std::int64_t old) {
       return std::int64_t{std::numeric_limits<std::int32_t>::max()} + 1;
     case 5:
       return std::int64_t{std::numeric_limits<std::int32_t>::min()} - 1;
-    case 6:
-      return old + 1;
+    case 6:  // wrapping (two's complement): old may be the extreme values above
+      return static_cast<std::int64_t>(static_cast<std::uint64_t>(old) + 1);
     case 7:
-      return old - 1;
+      return static_cast<std::int64_t>(static_cast<std::uint64_t>(old) - 1);
     case 8:
-      return -old;
+      return static_cast<std::int64_t>(0 - static_cast<std::uint64_t>(old));
     case 9:
       return 128;
     case 10:
