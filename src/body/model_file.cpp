@@ -246,9 +246,13 @@ void write_body(const Body& b, const std::filesystem::path& path) {
 }
 
 Body read_body(const std::filesystem::path& path, const PotentialFactory& factory) {
-  io::H5Reader r(path);
+  const io::H5Reader file(path);
+  return read_body(file, factory);
+}
+
+Body read_body(const io::H5Reader& r, const PotentialFactory& factory) {
   r.require_format("pdcg-body", kBodySchemaVersion);
-  const std::string src = path.string();
+  const std::string src = r.path().string();
   auto need = [&](std::string_view item) {
     if (!r.exists(item))
       throw InputError("model file lacks a required item")
@@ -338,7 +342,18 @@ Body read_body(const std::filesystem::path& path, const PotentialFactory& factor
   s.units = b.units;
   s.source = r.attribute_string("/potential", "source");
   s.atom_style = r.attribute_string("/potential", "atom_style");
-  s.ntypes = static_cast<int>(r.attribute_int("/potential", "ntypes"));
+  // the type count sizes the potential's per-type tables: the bound of atoms2pd, checked
+  // before it reaches them (a stored 2^31 − 1 overflowed `ntypes + 1`)
+  const std::int64_t ntypes = r.attribute_int("/potential", "ntypes");
+  if (ntypes < 1 || ntypes > atomistic::kMaxAtomTypes)
+    throw InputError("atom type count of the potential out of range")
+        .source(src)
+        .key("/potential@ntypes")
+        .value(std::to_string(ntypes))
+        .expected(fmt::format("1..{} (the atom types of the configuration the body was made from)",
+                              atomistic::kMaxAtomTypes))
+        .fix("the file is damaged or not written by pdcg atoms2pd; write it again");
+  s.ntypes = static_cast<int>(ntypes);
   if (r.exists("potential/type_mass")) s.type_mass = r.read_double("potential/type_mass");
   const auto sl = r.read_double("potential/special_lj"),
              sc = r.read_double("potential/special_coul");

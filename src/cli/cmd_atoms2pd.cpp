@@ -62,8 +62,7 @@ int run(const Options& o) {
       bu::read_configurations(o.input, o.frame, o.frames, &dump_units, needs);
   atomistic::Atoms& ref = frames.front();
   int ntypes = ref.ntypes;
-  // per-type-pair tables hold (ntypes+1)² entries per coefficient: 10⁴ types are 10⁸
-  constexpr int kMaxTypes = 10000;
+  constexpr int kMaxTypes = atomistic::kMaxAtomTypes;  // per-type-pair tables grow as types²
   if (ntypes > kMaxTypes)
     throw InputError("too many atom types declared")
         .source(o.input)

@@ -5,9 +5,12 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
+#include <stdexcept>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/parse.hpp"
@@ -102,6 +105,33 @@ Hdf5Failure hdf5_failure() {
                           f.text.empty() ? std::string() : " (" + f.text + ")"));
 }
 
+/// Writer side, in memory: no OS error to report (the core driver allocates).
+[[noreturn]] void fail_write(std::string_view what, std::string_view memory_name,
+                             std::string_view path) {
+  const auto f = hdf5_failure();
+  throw Error(fmt::format("HDF5 failed {} '{}' of the in-memory file {}{}", what, path, memory_name,
+                          f.text.empty() ? std::string() : " (" + f.text + ")"));
+}
+
+/// A file-access property list for a file that lives in memory only: HDF5's core driver
+/// without a backing store, growing by 64 KiB; with `image`, the file starts as a copy of it.
+Handle in_memory_access(std::span<const unsigned char> image = {}) {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), 64 * 1024, 0) < 0 ||
+      (!image.empty() &&
+       H5Pset_file_image(fapl.get(), const_cast<unsigned char*>(image.data()), image.size()) < 0))
+    throw Error("HDF5 cannot set up an in-memory file (core driver)");
+  return fapl;
+}
+
+/// The name under which HDF5 holds an in-memory file: unique in the process, since the core
+/// driver takes two open files of one name for the same file (the name in messages is the
+/// caller's).
+std::string core_driver_name() {
+  static std::atomic<unsigned long long> next{0};
+  return fmt::format("pdcg-in-memory-{}", next++);
+}
+
 /// Reader side: a file that HDF5 cannot read is damaged (truncated, overwritten): InputError.
 [[noreturn]] void fail_read(std::string_view what, const std::filesystem::path& file,
                             std::string_view path) {
@@ -151,10 +181,18 @@ Handle open_object(hid_t file, std::string_view path) {
 // ---------------------------------------------------------------- writer
 
 struct H5Writer::Impl {
-  AtomicPath path;
+  std::optional<AtomicPath> disk;  ///< on disk: the temporary and the final path
+  std::string memory_name;         ///< in memory: the name in messages
+  std::optional<H5Image> image;    ///< in memory: the file, after commit()
   Handle file;
   Handle link_props;
-  explicit Impl(std::filesystem::path p) : path(std::move(p)) {}
+
+  [[noreturn]] void fail(std::string_view what, std::string_view dpath) const {
+    if (disk) fail_write(what, *disk, dpath);
+    fail_write(what, memory_name, dpath);
+  }
+  /// After the file is open: the link properties and the root's identification.
+  void start(H5Writer& w, FileInfo& info);
 
   void write_array(std::string_view dpath, hid_t memtype, const void* data, std::size_t size,
                    std::vector<std::size_t> dims) {
@@ -170,9 +208,9 @@ struct H5Writer::Impl {
     Handle set(H5Dcreate2(file.get(), p.c_str(), memtype, space.get(), link_props.get(),
                           H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose);
-    if (!set.valid()) fail_write("creating dataset", path, dpath);
+    if (!set.valid()) fail("creating dataset", dpath);
     if (n > 0 && H5Dwrite(set.get(), memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-      fail_write("writing dataset", path, dpath);
+      fail("writing dataset", dpath);
     put_crc(set.get(), dpath, crc_of(data, n * H5Tget_size(memtype)));
   }
 
@@ -183,7 +221,7 @@ struct H5Writer::Impl {
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
     Handle a(H5Acreate2(set, kCrc, H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!a.valid() || H5Awrite(a.get(), H5T_NATIVE_INT64, &v) < 0)
-      fail_write("writing the checksum of", path, dpath);
+      fail("writing the checksum of", dpath);
   }
 
   Handle object_for_attribute(std::string_view object) {
@@ -193,7 +231,7 @@ struct H5Writer::Impl {
       const std::string p(object);
       Handle g(H5Gcreate2(file.get(), p.c_str(), link_props.get(), H5P_DEFAULT, H5P_DEFAULT),
                H5Gclose);
-      if (!g.valid()) fail_write("creating group", path, object);
+      if (!g.valid()) fail("creating group", object);
       return g;
     }
     return o;
@@ -207,34 +245,47 @@ struct H5Writer::Impl {
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
     Handle a(H5Acreate2(o.get(), n.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!a.valid() || H5Awrite(a.get(), type, value) < 0)
-      fail_write("writing attribute", path, std::string(object) + "@" + n);
+      fail("writing attribute", std::string(object) + "@" + n);
   }
 };
 
 H5Writer::H5Writer(std::filesystem::path final_path, FileInfo info)
-    : impl_(std::make_unique<Impl>(std::move(final_path))) {
-  impl_->file =
-      Handle(H5Fcreate(impl_->path.temporary().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-             H5Fclose);
+    : impl_(std::make_unique<Impl>()) {
+  const AtomicPath& disk = impl_->disk.emplace(std::move(final_path));
+  impl_->file = Handle(H5Fcreate(disk.temporary().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                       H5Fclose);
   if (!impl_->file.valid()) {
     const auto f = hdf5_failure();
     throw InputError("cannot create HDF5 file")
-        .value(impl_->path.final_path().string())
+        .value(disk.final_path().string())
         .expected("a writable location")
         .fix(f.os_error != 0 ? std::string(std::strerror(f.os_error)) +
                                    ": write the output to a writable directory with free "
                                    "space (-o/--output)"
                              : "check that the directory exists and is writable");
   }
-  impl_->link_props = Handle(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  H5Pset_create_intermediate_group(impl_->link_props.get(), 1);
+  impl_->start(*this, info);
+}
+
+H5Writer::H5Writer(InMemory file, FileInfo info) : impl_(std::make_unique<Impl>()) {
+  impl_->memory_name = std::move(file.name);
+  const Handle fapl = in_memory_access();
+  impl_->file = Handle(
+      H5Fcreate(core_driver_name().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
+  if (!impl_->file.valid()) fail_write("creating", impl_->memory_name, "/");
+  impl_->start(*this, info);
+}
+
+void H5Writer::Impl::start(H5Writer& w, FileInfo& info) {
+  link_props = Handle(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(link_props.get(), 1);
   if (info.pdcg_version.empty()) info.pdcg_version = pdcg::version();
   if (info.command_line.empty()) info.command_line = pdcg::command_line();
-  attribute("/", "format", info.format);
-  attribute("/", "schema_version", static_cast<std::int64_t>(info.schema_version));
-  attribute("/", "pdcg_version", info.pdcg_version);
-  attribute("/", "units", to_string(info.units));
-  attribute("/", "command_line", info.command_line);
+  w.attribute("/", "format", info.format);
+  w.attribute("/", "schema_version", static_cast<std::int64_t>(info.schema_version));
+  w.attribute("/", "pdcg_version", info.pdcg_version);
+  w.attribute("/", "units", to_string(info.units));
+  w.attribute("/", "command_line", info.command_line);
 }
 
 H5Writer::~H5Writer() = default;  // Impl: file closes first, then AtomicPath removes the temp
@@ -256,7 +307,7 @@ void H5Writer::write(std::string_view path, std::string_view text) {
                         H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
   if (!set.valid() || H5Dwrite(set.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &cs) < 0)
-    fail_write("writing string", impl_->path, path);
+    impl_->fail("writing string", path);
   impl_->put_crc(set.get(), path, crc_of(s.data(), s.size()));
 }
 void H5Writer::write_strings(std::string_view path, const std::vector<std::string>& lines) {
@@ -272,7 +323,7 @@ void H5Writer::write_strings(std::string_view path, const std::vector<std::strin
              H5Dclose);
   if (!set.valid() ||
       (n > 0 && H5Dwrite(set.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0))
-    fail_write("writing strings", impl_->path, path);
+    impl_->fail("writing strings", path);
   impl_->put_crc(set.get(), path, crc_of_strings(lines));
 }
 
@@ -290,17 +341,36 @@ void H5Writer::attribute(std::string_view object, std::string_view name, std::st
 }
 
 void H5Writer::commit() {
-  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0) fail_write("flushing", impl_->path, "/");
-  if (H5Fclose(impl_->file.release()) < 0) fail_write("closing", impl_->path, "/");
-  impl_->path.commit();
+  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0) impl_->fail("flushing", "/");
+  if (!impl_->disk) {  // in memory: the bytes before the file (and with it the memory) closes
+    const ssize_t n = H5Fget_file_image(impl_->file.get(), nullptr, 0);
+    H5Image bytes(n > 0 ? static_cast<std::size_t>(n) : 0);
+    if (n <= 0 || H5Fget_file_image(impl_->file.get(), bytes.data(), bytes.size()) != n)
+      impl_->fail("taking the image of", "/");
+    if (H5Fclose(impl_->file.release()) < 0) impl_->fail("closing", "/");
+    impl_->image = std::move(bytes);
+    return;
+  }
+  if (H5Fclose(impl_->file.release()) < 0) impl_->fail("closing", "/");
+  impl_->disk->commit();
+}
+
+const H5Image& H5Writer::image() const {
+  if (!impl_->image)
+    throw std::logic_error(impl_->disk ? "H5Writer::image() of a writer to a file"
+                                       : "H5Writer::image() before commit()");
+  return *impl_->image;
 }
 
 // ---------------------------------------------------------------- reader
 
 struct H5Reader::Impl {
-  std::filesystem::path path;
+  std::filesystem::path path;  ///< in memory: the caller's name
   Handle file;
   FileInfo info;
+
+  /// After H5Fopen: refuses a file HDF5 could not open, reads the root's identification.
+  void start(const H5Reader& r);
 
   Handle dataset(std::string_view p) const {
     const std::string s(p);
@@ -393,24 +463,52 @@ H5Reader::H5Reader(std::filesystem::path path) : impl_(std::make_unique<Impl>())
             "pass a file written by pdcg (a file cut short before its first bytes, e.g. by a "
             "full disk, also ends here: write it again)");
   impl_->file = Handle(H5Fopen(impl_->path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!impl_->file.valid()) {
+  impl_->start(*this);
+}
+
+namespace {
+/// What H5Fis_hdf5 checks of a file, for an image: the superblock signature at byte 0, 512,
+/// 1024, 2048, … (HDF5 File Format Specification, "Format Signature").
+bool has_hdf5_signature(std::span<const unsigned char> image) {
+  static constexpr unsigned char sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  for (std::size_t at = 0; at + sizeof sig <= image.size(); at = at == 0 ? 512 : 2 * at)
+    if (std::memcmp(image.data() + at, sig, sizeof sig) == 0) return true;
+  return false;
+}
+}  // namespace
+
+H5Reader::H5Reader(InMemory file, std::span<const unsigned char> image)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = std::move(file.name);
+  if (!has_hdf5_signature(image))
+    throw InputError("not an HDF5 file")
+        .value(impl_->path.string())
+        .expected("a pdcg HDF5 file (.h5)")
+        .fix("pass a file written by pdcg");
+  const Handle fapl = in_memory_access(image);
+  impl_->file = Handle(H5Fopen(core_driver_name().c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose);
+  impl_->start(*this);
+}
+
+void H5Reader::Impl::start(const H5Reader& r) {
+  if (!file.valid()) {
     const auto f = hdf5_failure();
     throw InputError("HDF5 file that cannot be opened: truncated or corrupt")
-        .value(impl_->path.string())
+        .value(path.string())
         .expected(f.text.empty() ? std::string("a complete HDF5 file")
                                  : "a complete HDF5 file (HDF5: " + f.text + ")")
         .fix("write the file again (an incomplete copy, a full disk or a disk error damaged it)");
   }
-  if (!has_attribute("/", "format"))
+  if (!r.has_attribute("/", "format"))
     throw InputError("HDF5 file without a pdcg 'format' attribute")
-        .value(impl_->path.string())
+        .value(path.string())
         .expected("a file written by pdcg")
         .fix("pass a file written by pdcg");
-  impl_->info.format = attribute_string("/", "format");
-  impl_->info.schema_version = static_cast<int>(attribute_int("/", "schema_version"));
-  impl_->info.pdcg_version = attribute_string("/", "pdcg_version");
-  impl_->info.units = parse_unit_style(attribute_string("/", "units"), impl_->path.string());
-  impl_->info.command_line = attribute_string("/", "command_line");
+  info.format = r.attribute_string("/", "format");
+  info.schema_version = static_cast<int>(r.attribute_int("/", "schema_version"));
+  info.pdcg_version = r.attribute_string("/", "pdcg_version");
+  info.units = parse_unit_style(r.attribute_string("/", "units"), path.string());
+  info.command_line = r.attribute_string("/", "command_line");
 }
 
 H5Reader::~H5Reader() = default;
@@ -449,26 +547,29 @@ bool H5Reader::exists(std::string_view p) const {
   }
 }
 
-std::vector<std::size_t> H5Reader::dims(std::string_view p) const {
-  Handle d = impl_->dataset(p);
-  Handle space(H5Dget_space(d.get()), H5Sclose);
+namespace {
+std::vector<std::size_t> dims_of(hid_t dataset) {
+  Handle space(H5Dget_space(dataset), H5Sclose);
   const int rank = H5Sget_simple_extent_ndims(space.get());
   std::vector<hsize_t> hd(static_cast<std::size_t>(std::max(rank, 0)));
   H5Sget_simple_extent_dims(space.get(), hd.data(), nullptr);
   return {hd.begin(), hd.end()};
 }
-
-namespace {
-std::size_t count(const std::vector<std::size_t>& dims) {
+/// Number of elements of an open dataset.
+std::size_t count(hid_t dataset) {
   std::size_t n = 1;
-  for (auto d : dims) n *= d;
+  for (auto d : dims_of(dataset)) n *= d;
   return n;
 }
 }  // namespace
 
+std::vector<std::size_t> H5Reader::dims(std::string_view p) const {
+  return dims_of(impl_->dataset(p).get());
+}
+
 std::vector<double> H5Reader::read_double(std::string_view p) const {
   Handle d = impl_->dataset(p);
-  std::vector<double> out(count(dims(p)));
+  std::vector<double> out(count(d.get()));
   if (!out.empty() &&
       H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     fail_read("cannot read dataset", impl_->path, p);
@@ -478,7 +579,7 @@ std::vector<double> H5Reader::read_double(std::string_view p) const {
 
 std::vector<std::int64_t> H5Reader::read_int(std::string_view p) const {
   Handle d = impl_->dataset(p);
-  std::vector<std::int64_t> out(count(dims(p)));
+  std::vector<std::int64_t> out(count(d.get()));
   if (!out.empty() &&
       H5Dread(d.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     fail_read("cannot read dataset", impl_->path, p);
@@ -489,7 +590,7 @@ std::vector<std::int64_t> H5Reader::read_int(std::string_view p) const {
 std::string H5Reader::read_string(std::string_view p) const {
   Handle d = impl_->dataset(p);
   // H5Dread writes one pointer per element: more than one would overrun `s`
-  if (const std::size_t n = count(dims(p)); n != 1)
+  if (const std::size_t n = count(d.get()); n != 1)
     throw InputError(fmt::format("expected one string, found {} elements in dataset '{}'", n, p))
         .source(impl_->path.string())
         .fix("the file was not written by pdcg, or is damaged: write it again");
@@ -506,7 +607,7 @@ std::string H5Reader::read_string(std::string_view p) const {
 std::vector<std::string> H5Reader::read_strings(std::string_view p) const {
   Handle d = impl_->dataset(p);
   Handle t = string_type();
-  std::vector<char*> ptrs(count(dims(p)), nullptr);
+  std::vector<char*> ptrs(count(d.get()), nullptr);
   if (!ptrs.empty() && H5Dread(d.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0)
     fail_read("cannot read strings", impl_->path, p);
   std::vector<std::string> out;

@@ -14,6 +14,12 @@
 /// edits, and reads it: read_body (with the default potential factory, native styles only)
 /// for bodies, H5Reader's walk (h5_walk.hpp) and verify() for results and checkpoints.
 ///
+/// The file lives in memory (io::InMemory: HDF5's core driver and file images), and HDF5's
+/// free lists keep what they free: every variable-length string read or written takes a
+/// 1 MiB type-conversion buffer, which HDF5's default limits return to malloc at once, and
+/// under ASan each one was a fresh mmap, zeroed page by page and unmapped — half the time of
+/// an execution (docs/reliability.md, "Fuzzing").
+///
 /// Not covered: HDF5 structures H5Writer never writes (other datatypes such as float32 or
 /// fixed-length strings, chunked or compressed layouts, attributes that are arrays, links) —
 /// those only reach H5Reader's type checks through the model_file / h5_result corpus.
@@ -133,6 +139,12 @@ Template load(const std::string& path) {
 const std::vector<Template>& templates() {
   static const std::vector<Template> all = [] {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    // HDF5's free lists keep what they free (see the file comment), up to 4 MiB per list and
+    // 16 MiB (regular objects, arrays) or 64 MiB (blocks) in all: the 1 MiB conversion
+    // buffers are reused, and memory stays bounded over 10^6 inputs of varying sizes.
+    constexpr int MiB = 1 << 20;
+    if (H5set_free_list_limits(16 * MiB, 4 * MiB, 16 * MiB, 4 * MiB, 64 * MiB, 4 * MiB) < 0)
+      std::abort();
     std::vector<Template> v;
     const std::string dir = PDCG_FUZZ_CORPUS_DIR;
     for (const char* f : {"/model_file/lj_body.h5", "/model_file/cu_body.h5",
@@ -190,12 +202,12 @@ std::int64_t fuzz_int(FuzzedDataProvider& in, std::int64_t old) {
       return std::int64_t{std::numeric_limits<std::int32_t>::max()} + 1;
     case 5:
       return std::int64_t{std::numeric_limits<std::int32_t>::min()} - 1;
-    case 6:
-      return old + 1;
+    case 6:  // wrapping (two's complement): old may be the extreme values above
+      return static_cast<std::int64_t>(static_cast<std::uint64_t>(old) + 1);
     case 7:
-      return old - 1;
+      return static_cast<std::int64_t>(static_cast<std::uint64_t>(old) - 1);
     case 8:
-      return -old;
+      return static_cast<std::int64_t>(0 - static_cast<std::uint64_t>(old));
     case 9:
       return 128;
     case 10:
@@ -304,9 +316,14 @@ struct PostEdit {
   std::int64_t crc = 0;
 };
 
-void write_file(const std::string& path, const Template& t, const std::vector<PostEdit>& post) {
+/// Where the readers' messages say the file is.
+const char* const kName = "fuzz_h5_struct input (in memory)";
+
+/// The edited template as an HDF5 file image.
+pdcg::io::H5Image write_file(const Template& t, const std::vector<PostEdit>& post) {
+  pdcg::io::H5Image image;
   {
-    pdcg::io::H5Writer w(path, t.info);
+    pdcg::io::H5Writer w(pdcg::io::InMemory{kName}, t.info);
     for (const auto& s : t.sets) {
       const Value& v = s.v;
       if (v.kind == Value::dbl) w.write(s.object, std::span<const double>(v.d), v.dims);
@@ -322,27 +339,42 @@ void write_file(const std::string& path, const Template& t, const std::vector<Po
         w.attribute(a.object, a.name, std::string_view(v.s.empty() ? "" : v.s[0]));
     }
     w.commit();
+    image = w.image();
   }
-  if (post.empty()) return;
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (post.empty()) return image;
+  // the image opened for writing in memory (core driver, no backing store), edited, taken back
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  if (fapl < 0 || H5Pset_fapl_core(fapl, 64 * 1024, 0) < 0 ||
+      H5Pset_file_image(fapl, image.data(), image.size()) < 0)
+    std::abort();
+  hid_t f = H5Fopen("fuzz_h5_struct post-edit", H5F_ACC_RDWR, fapl);
+  H5Pclose(fapl);
   if (f < 0) std::abort();
   for (const auto& e : post) {
     if (H5Aexists_by_name(f, e.object.c_str(), e.name.c_str(), H5P_DEFAULT) <= 0) continue;
     if (e.remove) {
       H5Adelete_by_name(f, e.object.c_str(), e.name.c_str(), H5P_DEFAULT);
     } else {
-      hid_t a = H5Aopen_by_name(f, e.object.c_str(), e.name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
-      H5Awrite(a, H5T_NATIVE_INT64, &e.crc);
+      // through the open object: HDF5 1.10.8 refuses H5Awrite on an attribute opened with
+      // H5Aopen_by_name ("can't locate open attribute"), and the wrong checksum never landed
+      hid_t o = H5Oopen(f, e.object.c_str(), H5P_DEFAULT);
+      hid_t a = H5Aopen(o, e.name.c_str(), H5P_DEFAULT);
+      if (o < 0 || a < 0 || H5Awrite(a, H5T_NATIVE_INT64, &e.crc) < 0) std::abort();
       H5Aclose(a);
+      H5Oclose(o);
     }
   }
+  if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) std::abort();
+  const ssize_t n = H5Fget_file_image(f, nullptr, 0);
+  image.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+  if (n <= 0 || H5Fget_file_image(f, image.data(), image.size()) != n) std::abort();
   if (H5Fclose(f) < 0) std::abort();
+  return image;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::string path = pdcg::fuzz::scratch_path("h5_struct", ".h5");
   const auto& all = templates();
   FuzzedDataProvider in(data, size);
   Template t = all[in.ConsumeIntegral<std::uint8_t>() % all.size()];
@@ -389,13 +421,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       post.push_back(e);
     }
   }
+  pdcg::io::H5Image image;
   try {
-    write_file(path, t, post);
+    image = write_file(t, post);
   } catch (const pdcg::Error&) {
     return 0;  // the writer refused the structure (e.g. a dataset where a group is): no file
   }
   const bool body = t.body;
   return pdcg::fuzz::guarded([&] {
+    const pdcg::io::H5Reader file(pdcg::io::InMemory{kName}, image);
     if (body) {
       const pdcg::body::PotentialFactory native_only =
           [](const pdcg::atomistic::PotentialSpec& spec,
@@ -405,9 +439,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           throw pdcg::InputError("non-native pair style (not fuzzed)").value(spec.pair_style);
         return pdcg::body::potential_from_commands(spec, files);
       };
-      (void)pdcg::body::read_body(path, native_only);
+      (void)pdcg::body::read_body(file, native_only);
     } else {
-      pdcg::io::H5Reader file(path);
       pdcg::fuzz::walk_h5(file);
       file.verify();
     }

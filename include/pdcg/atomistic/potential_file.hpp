@@ -31,6 +31,10 @@
 
 namespace pdcg::atomistic {
 
+/// The most atom types pdcg accepts from a configuration or a stored body: per-type-pair tables
+/// hold (ntypes+1)² entries per coefficient, 10⁸ for 10⁴ types.
+inline constexpr int kMaxAtomTypes = 10000;
+
 /// Reads the potential commands of `path`. `ntypes` > 0 fixes the number of atom types (e.g.
 /// from the data file); 0 infers it (create_box/read_data, else the largest type named in
 /// mass/pair_coeff, else the element count of a `pair_coeff * * file el1 el2 …`).

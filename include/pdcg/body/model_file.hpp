@@ -12,6 +12,10 @@
 
 #include "pdcg/body/body.hpp"
 
+namespace pdcg::io {
+class H5Reader;
+}
+
 namespace pdcg::body {
 
 inline constexpr int kBodySchemaVersion = 1;
@@ -41,5 +45,7 @@ PotentialFactory& default_potential_factory();
 /// for ε ≠ 1; without any factory the body has no potential (Evaluator then refuses it).
 /// Throws InputError naming the file and the missing or inconsistent item.
 Body read_body(const std::filesystem::path& path, const PotentialFactory& factory = {});
+/// The same from an open file (e.g. one in memory, io::InMemory); errors name file.path().
+Body read_body(const io::H5Reader& file, const PotentialFactory& factory = {});
 
 }  // namespace pdcg::body

@@ -13,6 +13,11 @@
 /// Writes go to a temporary file beside the final one; commit() renames it
 /// into place (see atomic_output.hpp); a full disk is pdcg::Error naming the final file, the
 /// OS error and the fix. HDF5 headers stay out of this header.
+///
+/// In memory (InMemory): the same writer and reader on a file that never touches the disk
+/// (HDF5's core driver without a backing store, and file images). For tests and the fuzz
+/// harnesses, which write and read a whole file per input; pdcg's own output always goes
+/// through a file (temporary + rename).
 #pragma once
 
 #include <cstdint>
@@ -36,11 +41,22 @@ struct FileInfo {
   std::string command_line;  ///< filled from pdcg::command_line() if empty
 };
 
+/// The bytes of a complete HDF5 file held in memory (an HDF5 "file image").
+using H5Image = std::vector<unsigned char>;
+
+/// Selects the in-memory constructors of H5Writer and H5Reader; `name` stands for the file
+/// in error messages (it is not a path: nothing is created or opened under it).
+struct InMemory {
+  std::string name;
+};
+
 /// Writes one HDF5 file atomically. Paths like "families/offsets" create
 /// intermediate groups. Arrays are row-major; `dims` defaults to {size}.
 class H5Writer {
  public:
   H5Writer(std::filesystem::path final_path, FileInfo info);
+  /// A file in memory only: commit() closes it and image() returns its bytes.
+  H5Writer(InMemory file, FileInfo info);
   ~H5Writer();  ///< without commit(): closes and deletes the temporary
   H5Writer(const H5Writer&) = delete;
   H5Writer& operator=(const H5Writer&) = delete;
@@ -57,8 +73,11 @@ class H5Writer {
   void attribute(std::string_view object, std::string_view name, std::string_view value);
 
   /// Flushes, closes and renames into place. Nothing is visible under the
-  /// final name before this returns.
+  /// final name before this returns. In memory: flushes and closes; image() holds the file.
   void commit();
+  /// The complete file of an in-memory writer after commit(); std::logic_error for a writer
+  /// to disk or before commit().
+  const H5Image& image() const;
 
  private:
   struct Impl;
@@ -70,6 +89,9 @@ class H5Writer {
 class H5Reader {
  public:
   explicit H5Reader(std::filesystem::path path);
+  /// Reads a file image (e.g. H5Writer::image(); the bytes are copied). Checks as on disk;
+  /// errors name `file.name`, which path() returns.
+  H5Reader(InMemory file, std::span<const unsigned char> image);
   ~H5Reader();
   H5Reader(const H5Reader&) = delete;
   H5Reader& operator=(const H5Reader&) = delete;

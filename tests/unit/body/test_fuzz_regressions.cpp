@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/body/model_file.hpp"
 #include "pdcg/core/error.hpp"
 
@@ -91,5 +93,51 @@ TEST(FuzzRegression, BodyWithFewerPotentialFileContentsThanNamesIsRefused) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("potential/file_contents"), std::string::npos) << e.what();
   }
+  std::filesystem::remove_all(dir);
+}
+
+// fuzz_h5_struct (in memory, 7 208th execution): an eam body whose /potential@ntypes is
+// 2^31 − 1. read_body passed it to the rebuilt potential's command reader, which sized its
+// per-type mass table with ntypes + 1 (UBSan: signed integer overflow; without the overflow a
+// 16 GiB table). Now the stored count is checked against atoms2pd's bound (1..kMaxAtomTypes),
+// an InputError naming the attribute, before any potential is built; so are 0, negatives and a
+// count beyond int.
+TEST(FuzzRegression, BodyWithAtomTypeCountOutOfRangeIsRefused) {
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      ("pdcg_fuzz_ntypes_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "ntypes.h5";
+  for (const std::int64_t ntypes :
+       {std::int64_t{2147483647}, std::int64_t{1} << 40, std::int64_t{0}, std::int64_t{-1},
+        std::int64_t{atomistic::kMaxAtomTypes} + 1}) {
+    std::filesystem::copy_file(
+        std::string(PDCG_SOURCE_DIR) + "/tests/fuzz/corpus/model_file/cu_body.h5", path,
+        std::filesystem::copy_options::overwrite_existing);
+    {
+      const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+      ASSERT_GE(f, 0);
+      // through the open group (HDF5 1.10.8 does not write an attribute opened by name)
+      const hid_t g = H5Oopen(f, "/potential", H5P_DEFAULT);
+      const hid_t a = H5Aopen(g, "ntypes", H5P_DEFAULT);
+      ASSERT_GE(a, 0);
+      ASSERT_GE(H5Awrite(a, H5T_NATIVE_INT64, &ntypes), 0);
+      H5Aclose(a);
+      H5Oclose(g);
+      H5Fclose(f);
+    }
+    try {
+      (void)body::read_body(path, body::potential_from_commands);
+      ADD_FAILURE() << "ntypes " << ntypes << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("/potential@ntypes"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::to_string(ntypes)), std::string::npos) << e.what();
+    }
+  }
+  // the file as written (ntypes 1) reads
+  std::filesystem::copy_file(
+      std::string(PDCG_SOURCE_DIR) + "/tests/fuzz/corpus/model_file/cu_body.h5", path,
+      std::filesystem::copy_options::overwrite_existing);
+  EXPECT_GT(body::read_body(path, body::potential_from_commands).size(), 0u);
   std::filesystem::remove_all(dir);
 }

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "pdcg/body/model_file.hpp"
@@ -83,4 +85,42 @@ TEST(ModelFile, RoundTripEvaluatesIdentically) {
   EXPECT_THROW((void)read_body(dir / "r.h5"), InputError);
   EXPECT_THROW((void)read_body(dir / "missing.h5"), InputError);
   std::filesystem::remove_all(dir);
+}
+
+// read_body from an open reader (the fuzz harness reads bodies held in memory): the bytes of
+// the corpus's lj/cut body (written by pdcg atoms2pd) read as an image give the body read from
+// the file, and errors name the image's name.
+TEST(ModelFile, ReadFromAnImageIsTheBodyOfTheFile) {
+  const std::filesystem::path path =
+      std::string(PDCG_SOURCE_DIR) + "/tests/fuzz/corpus/model_file/lj_body.h5";
+  std::ifstream in(path, std::ios::binary);
+  const io::H5Image bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const PotentialFactory none = [](const atomistic::PotentialSpec&,
+                                   const std::vector<EmbeddedFile>&) {
+    return std::shared_ptr<const atomistic::Potential>();
+  };
+  const Body a = read_body(path, none);
+  const Body b = read_body(io::H5Reader(io::InMemory{"lj body image"}, bytes), none);
+  ASSERT_GT(a.size(), 0u);
+  EXPECT_EQ(b.id, a.id);
+  EXPECT_EQ(b.x, a.x);
+  EXPECT_EQ(b.mass, a.mass);
+  EXPECT_EQ(b.families.offset, a.families.offset);
+  EXPECT_EQ(b.families.neighbor, a.families.neighbor);
+  EXPECT_EQ(b.potential_spec.lines, a.potential_spec.lines);
+  EXPECT_EQ(b.epsilon, a.epsilon);
+  // an image of another kind of file: refused naming the image
+  io::H5Image results;
+  {
+    io::H5Writer w(io::InMemory{"results"}, {"pdcg-results", 1, UnitStyle::lj, "", ""});
+    w.write("x", std::vector<double>{1.0});
+    w.commit();
+    results = w.image();
+  }
+  try {
+    (void)read_body(io::H5Reader(io::InMemory{"results image"}, results), none);
+    ADD_FAILURE() << "a results file was read as a body";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("results image"), std::string::npos) << e.what();
+  }
 }
