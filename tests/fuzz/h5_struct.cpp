@@ -37,6 +37,7 @@
 #include "fuzz_common.hpp"
 #include "fuzz_potential.hpp"
 #include "h5_walk.hpp"
+#include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/body/model_file.hpp"
 
 namespace {
@@ -437,6 +438,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           -> std::shared_ptr<const pdcg::atomistic::Potential> {
         if (!pdcg::fuzz::native_style(spec.pair_style))
           throw pdcg::InputError("non-native pair style (not fuzzed)").value(spec.pair_style);
+        // potential_from_commands builds from the stored command lines, which an edit may
+        // have made name another style than the stored pair_style: check what it will build
+        // (a non-native style would start embedded LAMMPS, and Open MPI's start-up leaks
+        // would end the run at exit)
+        std::string text;
+        for (const auto& l : spec.lines) text += l + "\n";
+        const auto rebuilt =
+            pdcg::atomistic::read_potential_commands_from_string(text, "fuzz", spec.ntypes);
+        if (!pdcg::fuzz::native_style(rebuilt.pair_style))
+          throw pdcg::InputError("non-native pair style (not fuzzed)").value(rebuilt.pair_style);
         return pdcg::body::potential_from_commands(spec, files);
       };
       (void)pdcg::body::read_body(file, native_only);
