@@ -32,11 +32,13 @@ inline Vec3 kfield_unit_displacement(const Vec3& x, double a) {
 // The LEFM K-field of K = K_c imposed on every point of the pre-cracked square (no solve):
 // G/G_c at which the first pair reaches its critical work, 1 / max W/W_c (W ∝ K²), and
 // the pair. The criterion's own reading of the tip field, without the PD solution.
-struct ImposedResult {
-  double G_first_over_Gc = 0;
-  Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+/// The pre-cracked square of the K-field cases: [−L, L]² on a unit grid (L ≈ L_over_delta·δ,
+/// δ = m), a straight crack from the left edge to the centre.
+struct KfieldSquare {
+  double delta, L;
+  Discretization body;
 };
-inline ImposedResult kfield_imposed(double m, double L_over_delta) {
+inline KfieldSquare kfield_square(double m, double L_over_delta) {
   const double dx = 1.0, delta = m * dx;
   const int n = 2 * static_cast<int>(std::lround(L_over_delta * delta / dx));
   const double L = 0.5 * n * dx;
@@ -47,7 +49,16 @@ inline ImposedResult kfield_imposed(double m, double L_over_delta) {
   g.cracks.push_back({Vec3(-L - 1, 0, 0), Vec3(0, 0, 0)});
   DiscretizationOptions opt;
   opt.horizon_factor = m;
-  Discretization body = Discretization::grid(g, opt);
+  return {delta, L, Discretization::grid(g, opt)};
+}
+
+struct ImposedResult {
+  double G_first_over_Gc = 0;
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+};
+inline ImposedResult kfield_imposed(double m, double L_over_delta) {
+  KfieldSquare square = kfield_square(m, L_over_delta);
+  Discretization& body = square.body;
   auto mat = make_neo_hookean({1.0, 2.0}, Kinematics::plane_strain);
   Model model(body, *mat);
   const double G_c = 1e-6, Kc = std::sqrt(G_c * kfield_E_prime);
@@ -108,17 +119,9 @@ inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delt
                            bool follow_tip = true, double layer = 1.0, int max_events = 400,
                            bool verbose = false, BoundaryForm boundary = BoundaryForm::weak,
                            bool instantaneous = false) {
-  const double dx = 1.0, delta = m * dx;
-  const int n = 2 * static_cast<int>(std::lround(L_over_delta * delta / dx));
-  const double L = 0.5 * n * dx;
-  GridSpec g;
-  g.origin = Vec3(-L, -L, -0.5);
-  g.size = Vec3(2 * L, 2 * L, 1.0);
-  g.spacing = dx;
-  g.cracks.push_back({Vec3(-L - 1, 0, 0), Vec3(0, 0, 0)});
-  DiscretizationOptions opt;
-  opt.horizon_factor = m;
-  Discretization body = Discretization::grid(g, opt);
+  KfieldSquare square = kfield_square(m, L_over_delta);
+  const double delta = square.delta, L = square.L;
+  Discretization& body = square.body;
   auto mat = make_neo_hookean({1.0, 2.0}, Kinematics::plane_strain);
   ModelOptions mo;
   mo.boundary = boundary;
