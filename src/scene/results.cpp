@@ -3,10 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/LU>
 #include <cstdint>
 #include <numeric>
-
-#include <Eigen/LU>
 
 #include "checks.hpp"
 #include "pdcg/core/log.hpp"
