@@ -35,6 +35,19 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
   } catch (InputError& e) {
     throw e.line(m["file"].Mark().line + 1).key("material.file");
   }
+
+  // The scene's numbers are in the model's units (lengths, energy/length^3): a scene without a
+  // unit system takes the model's (so its CSV headers and result files name it); a different
+  // one is a contradiction.
+  if (s.units == UnitStyle::none) {
+    s.units = b->units;
+  } else if (s.units != b->units) {
+    throw c.err(m["file"], "material.file", "the model's units differ from the scene's")
+        .value(fmt::format("a model in units {}, the scene in units {}", to_string(b->units),
+                           to_string(s.units)))
+        .fix(fmt::format("set units: {} (or leave units out: the scene then takes the model's)",
+                         to_string(b->units)));
+  }
   if (b->dimension != s.dimension)
     throw c.err(m["file"], "material.file", "the model's dimension differs from the scene's")
         .value(fmt::format("a {}D model in a {}D scene", b->dimension, s.dimension))
@@ -53,6 +66,30 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
           .value(m["per_point"].Scalar())
           .expected("true or false");
     }
+  }
+  if (m["ion_relaxation"]) {
+    const std::string v = c.text(m["ion_relaxation"], "material.ion_relaxation");
+    if (v != "automatic" && v != "relaxed" && v != "clamped")
+      throw c.err(m["ion_relaxation"], "material.ion_relaxation", "unknown value")
+          .value(v)
+          .expected("automatic, relaxed or clamped");
+    if (s.material_per_point && v == "relaxed")
+      throw c
+          .err(m["ion_relaxation"], "material.ion_relaxation",
+               "the per-point material is clamped-ion (inner relaxation of nonhomogeneous "
+               "models is not implemented)")
+          .fix(
+              "remove material.per_point for the body-level relaxed material, or set "
+              "ion_relaxation: clamped");
+    if (v == "relaxed") {
+      try {  // relaxed on request: the body must be a perfect crystal (refused here, with the line)
+        body::CauchyBorn probe(*b, body::IonRelaxation::relaxed);
+        (void)probe;
+      } catch (InputError& e) {
+        throw e.line(m["ion_relaxation"].Mark().line + 1).key("material.ion_relaxation");
+      }
+    }
+    s.material_ion_relaxation = v;
   }
   if (s.material_per_point) {
     if (!s.model_geometry)
@@ -119,20 +156,26 @@ class NeoHookeanModel final : public MaterialModel {
 
 class CauchyBornModel final : public MaterialModel {
  public:
-  std::vector<std::string> keys() const override { return {"density", "file", "per_point"}; }
+  std::vector<std::string> keys() const override {
+    return {"density", "file", "per_point", "ion_relaxation"};
+  }
   void parse(const Reader& r, const Node& m, Scene& s) override {
     load_cauchy_born(Ctx{r.file()}, m.yaml(), std::filesystem::path(r.file()), s);
   }
   void resolve(Emitter& out, const Scene& s) const override {
     out.value("file", s.material_file.string());
     if (s.material_per_point) out.value("per_point", true);
+    if (!s.material_per_point) out.value("ion_relaxation", s.material_ion_relaxation);
   }
   std::unique_ptr<solver::Material> make(const Scene& s) const override {
     if (s.material_per_point)
       return std::make_unique<body::PerPointCauchyBornMaterial>(
           std::make_shared<const body::Body>(body::read_body(s.material_file)),
           s.model_geometry->cloud.volume, s.material_file.string());
-    return body::CauchyBornMaterial::from_file(s.material_file);
+    const auto ion = s.material_ion_relaxation == "relaxed"   ? body::IonRelaxation::relaxed
+                     : s.material_ion_relaxation == "clamped" ? body::IonRelaxation::clamped
+                                                              : body::IonRelaxation::automatic;
+    return body::CauchyBornMaterial::from_file(s.material_file, ion);
   }
 };
 

@@ -64,15 +64,21 @@ inline bool copy_cauchy_born_state(const CauchyBornState& s, double scale, int d
 
 class CauchyBornMaterial final : public solver::Material {
  public:
-  explicit CauchyBornMaterial(std::shared_ptr<const Body> body, std::string source = {})
+  /// `ion`: inner relaxation of a crystal with a basis (cauchy_born.hpp; the scene's
+  /// `material.ion_relaxation`, default automatic).
+  explicit CauchyBornMaterial(std::shared_ptr<const Body> body, std::string source = {},
+                              IonRelaxation ion = IonRelaxation::automatic)
       : body_(std::move(body)),
-        cb_(std::make_shared<CauchyBorn>(*body_)),
+        cb_(std::make_shared<CauchyBorn>(*body_, ion)),
         source_(std::move(source)) {}
   /// Reads a pdcg-body file (`material: {model: cauchy-born, file: res.h5}`).
-  static std::unique_ptr<CauchyBornMaterial> from_file(const std::string& path) {
-    return std::make_unique<CauchyBornMaterial>(std::make_shared<const Body>(read_body(path)),
-                                                path);
+  static std::unique_ptr<CauchyBornMaterial> from_file(
+      const std::string& path, IonRelaxation ion = IonRelaxation::automatic) {
+    return std::make_unique<CauchyBornMaterial>(std::make_shared<const Body>(read_body(path)), path,
+                                                ion);
   }
+  /// True when the material's values are the relaxed-ion ones (CauchyBorn::relaxed_values).
+  bool relaxed_values() const { return cb_->relaxed_values(); }
 
   int dimension() const override { return body_->dimension == 2 ? 2 : 3; }
   bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P,

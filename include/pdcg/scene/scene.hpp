@@ -125,6 +125,10 @@ struct Scene {
   /// `material.per_point: true`: point p uses W_p of the model (body::PerPointCauchyBornMaterial);
   /// needs geometry.shape: model on the same file.
   bool material_per_point = false;
+  /// `material.ion_relaxation` of the body-level Cauchy–Born material (docs/elastic.md §6):
+  /// "automatic" (default: relaxed for a perfect crystal, clamped-ion with a warning
+  /// otherwise), "relaxed" (a body that is not a perfect crystal is refused) or "clamped".
+  std::string material_ion_relaxation = "automatic";
   /// The model of `material.model` with its own parameters (material_model.hpp); null for a
   /// Scene built in code (make_material then takes a fresh model of material_model).
   std::shared_ptr<const MaterialModel> material_impl;

@@ -216,3 +216,65 @@ TEST(SceneCauchyBorn, BadCombinationsAreInputErrors) {
   t = scene2d("sheet.h5", 1.0);
   has(error_of(t.replace(t.find("file: sheet.h5"), 14, "")), "material.file");
 }
+
+// `material.ion_relaxation` (docs/elastic.md §6) on diamond Si (Stillinger–Weber, Debian's
+// Si.sw): relaxed, clamped and the default (automatic: relaxed for a perfect crystal) give the
+// scene material body::CauchyBorn's P in that mode; relaxed on a crystal with displaced atoms
+// and unknown values are refused with the key; the scene takes the model's units (metal) when
+// it names none and refuses different ones.
+TEST(SceneCauchyBorn, IonRelaxationKeyAndModelUnits) {
+  const auto path = atomistic::find_potential_file("Si.sw");
+  if (!path) GTEST_SKIP() << "Si.sw not found (LAMMPS potentials)";
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units metal\nmass 1 28.0855\npair_style sw\npair_coeff * * " + *path + " Si\n", "si", 1);
+  const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  fs::create_directories(kDir);
+  const body::Body perfect =
+      body::make_delta_body(test::diamond(2, 5.431, 0.0, false, 0), pot, spec,
+                            {.dimension = 3, .cutoff = 0.0, .source = "si"});
+  body::write_body(perfect, kDir / "si.h5");
+  // displaced atoms in 216 (a periodic cell of ≤ 64 atoms would be relaxed as one basis)
+  body::write_body(body::make_delta_body(test::diamond(3, 5.431, 0.05, false, 7), pot, spec,
+                                         {.dimension = 3, .cutoff = 0.0, .source = "si-noisy"}),
+                   kDir / "si_noisy.h5");
+  auto scene3d = [](const std::string& model, const std::string& extra,
+                    const std::string& units = "") {
+    return units +
+           "dimension: 3\n"
+           "geometry: {shape: box, origin: [0, 0, 0], size: [6, 6, 6], spacing: 2.0}\n"
+           "material: {model: cauchy-born, file: " +
+           model + extra +
+           "}\n"
+           "boundary:\n  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0}}\n";
+  };
+  Eigen::Matrix3d F;
+  F << 1.004, 0.006, -0.003, 0.002, 0.997, 0.005, -0.004, 0.001, 1.003;
+  const body::CauchyBorn relaxed(perfect, body::IonRelaxation::relaxed),
+      clamped(perfect, body::IonRelaxation::clamped);
+  const Eigen::Matrix3d P_relaxed = relaxed.evaluate(F).P, P_clamped = clamped.evaluate(F).P;
+  // the key matters: the shear part of P relaxes (C44 56 vs 110 GPa)
+  ASSERT_GT((P_relaxed - P_clamped).norm(), 1e-2 * P_clamped.norm());
+  for (const auto& [extra, P_ref] :
+       {std::pair{std::string(""), P_relaxed},
+        std::pair{std::string(", ion_relaxation: relaxed"), P_relaxed},
+        std::pair{std::string(", ion_relaxation: clamped"), P_clamped}}) {
+    const auto s = scene::load_scene(write("si.yaml", scene3d("si.h5", extra)));
+    EXPECT_EQ(s.units, UnitStyle::metal) << "the scene takes the model's units";
+    solver::Mat3 P;
+    ASSERT_TRUE(scene::make_material(s)->evaluate(F, nullptr, &P, nullptr));
+    // same code path as body::CauchyBorn in that mode: equal to round-off
+    EXPECT_LE((P - P_ref).norm(), 1e-12 * P_ref.norm()) << extra;
+  }
+  auto has = [](const std::string& msg, const std::string& what) {
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  };
+  const std::string noisy = error_of(scene3d("si_noisy.h5", ", ion_relaxation: relaxed"));
+  has(noisy, "material.ion_relaxation");
+  has(noisy, "not a perfect crystal");
+  EXPECT_NO_THROW(scene::load_scene(write("si_auto.yaml", scene3d("si_noisy.h5", ""))));
+  has(error_of(scene3d("si.h5", ", ion_relaxation: partly")), "automatic, relaxed or clamped");
+  const std::string units = error_of(scene3d("si.h5", "", "units: lj\n"));
+  has(units, "material.file");
+  has(units, "units metal");
+  has(units, "set units: metal");
+}
