@@ -8,12 +8,15 @@
 # Exit code 0 only when every selected test passes with no report (docs/testing.md
 # "Sanitizers and fuzzing").
 #
-#   tests/sanitize.sh                 the CI selection: ctest -LE "$PDCG_ASAN_EXCLUDE", default
-#                                     'slow|cli' (see docs/testing.md for what that leaves out)
-#   PDCG_ASAN_EXCLUDE=slow tests/sanitize.sh    every test but the slow ones
+#   tests/sanitize.sh                 the CI selection: every test but PDCG_ASAN_EXCLUDE (default
+#                                     'slow'); the `cli` tests (scripts that run the `pdcg`
+#                                     executable many times) in a second phase, below
+#   PDCG_ASAN_EXCLUDE='slow|cli' tests/sanitize.sh    without the cli phase (and no `pdcg` build)
 #   tests/sanitize.sh -R dump         extra arguments go to ctest (replace the selection)
 #   tests/sanitize.sh --build [target...]   configure and build only (tests/fuzz/run.sh uses
 #                                     this with fuzz_all)
+#   PDCG_ASAN_CLI_ONLY=1 tests/sanitize.sh      only the cli phase
+#   PDCG_ASAN_CLI_TESTS='cli.md cli.inspect' ...  only those cli tests in that phase
 #   PDCG_CHECKS_BUILD=DIR             the build tree (default build-checks/)
 #
 # Suppressions (third-party libraries only, each with its reason): tests/sanitizers/*.supp.
@@ -49,10 +52,10 @@ if [ "${1:-}" = --build ]; then  # --build [target...]: only build (default: eve
 fi
 # What to build: PDCG_ASAN_TARGETS="test_atomistic test_io" builds only those (a quick local
 # check; give ctest a selection of their tests, e.g. -L '^(atomistic|io)$'). Default, when the
-# selection leaves out `cli` (the CI one): every test_* executable but test_body_cli, and the
-# fuzz harnesses — not the `pdcg` executable, which only `cli` tests run (~18 % of the
-# build). Otherwise everything.
-exclude=${PDCG_ASAN_EXCLUDE:-slow|cli}
+# selection leaves out `cli`: every test_* executable but test_body_cli, and the fuzz
+# harnesses — not the `pdcg` executable, which only `cli` tests run (~18 % of the build).
+# Otherwise everything.
+exclude=${PDCG_ASAN_EXCLUDE:-slow}
 targets=()
 skip_unbuilt=()
 if [ -n "${PDCG_ASAN_TARGETS:-}" ]; then
@@ -96,8 +99,11 @@ export OMPI_MCA_mca_base_component_disable_dlclose=${OMPI_MCA_mca_base_component
 export OMP_TOOL=${OMP_TOOL:-disabled}
 cd "$B"
 args=("$@")
+cli_phase=0
 if [ ${#args[@]} = 0 ]; then
-  args=(-LE "$exclude")
+  # the cli tests run in their own phase (below) unless the selection leaves them out
+  if [[ "|$exclude|" != *"|cli|"* ]]; then cli_phase=1; fi
+  args=(-LE "$exclude|cli")
   # Two 3D Newton–GMRES solves take 5–7 min each under ASan on 2 cores (measured 406 s and
   # 320 s; again > 900 s on a loaded machine) and would push CI past its budget; the kernels
   # they exercise (residual, tangent, matrix-free product, GMRES) run under the sanitizers in
@@ -111,8 +117,12 @@ fi
 args+=("${skip_unbuilt[@]}")
 log=$B/sanitize-ctest.log
 status=0
-ctest -V -j"${PDCG_JOBS:-2}" --timeout 1800 "${args[@]}" >"$log" 2>&1 || status=$?
-grep -E '^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|Total Test time' "$log" | tail -40
+if [ "${PDCG_ASAN_CLI_ONLY:-0}" = 1 ]; then  # only the cli phase (a local check of it)
+  : >"$log"
+else
+  ctest -V -j"${PDCG_JOBS:-2}" --timeout 1800 "${args[@]}" >"$log" 2>&1 || status=$?
+fi
+grep -E '^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|Total Test time' "$log" | tail -40 || true
 # Per failed test (ctest -V prefixes its lines with "N: "): a real failure has a sanitizer
 # report other than a leak, a failed assertion, a timeout or a crash, or a leak whose stack
 # has a pdcg frame (a function in namespace pdcg or a file under src/, tests/ or include/).
@@ -156,6 +166,76 @@ done < <(grep '^RETRY ' <<<"$verdict")
 [ -n "$verdict" ] && echo "$verdict"
 if [ "$status" != 0 ] && ! grep -q '^FAIL ' <<<"$verdict" && grep -q 'tests failed' "$log"; then
   status=0  # every failure was a third-party leak, or passed when run again (tracer fault)
+fi
+
+# ---- cli phase: the script tests of the `pdcg` executable (label cli, not slow) -----------
+# A script runs `pdcg` many times and checks its exit codes and messages, so a sanitizer report
+# must neither change an exit code nor land in a message the script reads: every report goes
+# to a file per process (log_path, one directory per test) and exitcode=0 leaves the process's
+# own exit code (Open MPI's start-up leaks, under every command that embeds LAMMPS, would
+# otherwise make each such command exit 1). The verdict then reads every file: any ASan or
+# UBSan report fails the test (whatever the exit code: halt_on_error still stops the process
+# at the first report), a leak with a pdcg frame fails it, leaks without one are accepted as
+# above; a LeakSanitizer tracer fault runs the test again (up to three runs).
+cli_verdict() {  # $1: the test's log directory; prints FAIL/RETRY/accepted lines, nothing if clean
+  local f
+  for f in "$1"/r.*; do
+    [ -e "$f" ] || continue
+    awk -v root="$PDCG_ROOT" -v file="$f" '
+      /runtime error|ERROR: AddressSanitizer|ERROR: UndefinedBehaviorSanitizer/ { real = 1 }
+      /ERROR: LeakSanitizer/ { inleak = 1; leak = 1 }
+      /LeakSanitizer has encountered a fatal error/ { tracer = 1 }
+      inleak && (/pdcg::/ || index($0, root "/src/") || index($0, root "/tests/") || index($0, root "/include/")) { real = 1; ours = 1 }
+      /SUMMARY: AddressSanitizer/ { inleak = 0 }
+      END { if (real) print "FAIL " file (ours ? "  (leak with a pdcg frame)" : "")
+            else if (tracer) print "RETRY " file
+            else if (leak) print "accepted " file }' "$f"
+  done
+}
+if [ "$cli_phase" = 1 ]; then
+  mapfile -t cli_tests < <(ctest -N -L cli -LE "$exclude" | sed -n 's/^ *Test *#[0-9]*: \(.*\)$/\1/p' | grep -v '_NOT_BUILT$' || true)
+  [ -n "${PDCG_ASAN_CLI_TESTS:-}" ] && read -ra cli_tests <<<"$PDCG_ASAN_CLI_TESTS"
+  echo "sanitize: cli phase, ${#cli_tests[@]} tests"
+  logs=$B/sanitize-cli
+  rm -rf "$logs"
+  mkdir -p "$logs"
+  run_cli_test() {  # name: one ctest run with its reports under $logs/<name>/
+    local name=$1 d=$logs/$1 rc=0
+    rm -rf "$d"
+    mkdir -p "$d"
+    ASAN_OPTIONS="$ASAN_OPTIONS:exitcode=0:log_path=$d/r" \
+      UBSAN_OPTIONS="$UBSAN_OPTIONS:exitcode=0:log_path=$d/r" \
+      ctest -V --timeout 1800 -R "^${name//./\\.}\$" >"$d/ctest.log" 2>&1 || rc=$?
+    echo "$rc" >"$d/rc"
+  }
+  export -f run_cli_test
+  export logs
+  t_cli=$SECONDS
+  printf '%s\n' "${cli_tests[@]}" | xargs -P "${PDCG_JOBS:-2}" -I{} bash -c 'run_cli_test "$1"' _ {}
+  for name in "${cli_tests[@]}"; do
+    d=$logs/$name
+    for attempt in 1 2 3; do
+      v=$(cli_verdict "$d")
+      if ! grep -q '^RETRY ' <<<"$v"; then break; fi
+      echo "sanitize: $name: LeakSanitizer's tracer failed (leak check not done); run $((attempt + 1)) of 3"
+      [ "$attempt" = 3 ] && { v=$(sed 's/^RETRY /FAIL (tracer failed three times) /' <<<"$v"); break; }
+      run_cli_test "$name"
+    done
+    t=$(grep -Eo 'Total Test time \(real\) = *[0-9.]+ sec' "$d/ctest.log" | grep -Eo '[0-9.]+' || echo '?')
+    if [ "$(cat "$d/rc")" != 0 ] || ! grep -q '100% tests passed' "$d/ctest.log"; then
+      echo "FAIL cli test $name (${t} s): the test itself failed; last lines:"
+      tail -25 "$d/ctest.log"
+      status=1
+    elif grep -q '^FAIL ' <<<"$v"; then
+      echo "FAIL cli test $name (${t} s): sanitizer report"
+      grep '^FAIL ' <<<"$v" | while read -r _ f _; do echo "---- $f:"; head -40 "$f"; done
+      status=1
+    else
+      n_acc=$(grep -c '^accepted ' <<<"$v" || true)
+      echo "ok   cli test $name (${t} s)$([ "$n_acc" -gt 0 ] && echo ", $n_acc processes with third-party leaks only, accepted")"
+    fi
+  done
+  echo "sanitize: cli phase $((SECONDS - t_cli)) s"
 fi
 if grep -q '^FAIL ' <<<"$verdict"; then
   status=1
