@@ -13,6 +13,8 @@ InputError Ctx::err(const YAML::Node& n, const std::string& key, const std::stri
 
 void Ctx::keys(const YAML::Node& n, const std::string& where,
                const std::vector<std::string>& valid) const {
+  if (!n.IsDefined())  // an absent node: its IsMap() would throw YAML::InvalidNode
+    throw err(n, where, "missing key").expected(fmt::format("keys {}", fmt::join(valid, ", ")));
   if (!n.IsMap())
     throw err(n, where, "expected a mapping {key: value, ...}")
         .expected(fmt::format("keys {}", fmt::join(valid, ", ")));
@@ -28,7 +30,17 @@ void Ctx::keys(const YAML::Node& n, const std::string& where,
   }
 }
 
+namespace {
+// A required key that is absent: yaml-cpp hands back an invalid node whose type queries throw
+// YAML::InvalidNode, so every accessor asks IsDefined() (which does not throw) first.
+void require_defined(const Ctx& c, const YAML::Node& n, const std::string& key,
+                     const std::string& expected) {
+  if (!n.IsDefined()) throw c.err(n, key, "missing key").expected(expected);
+}
+}  // namespace
+
 double Ctx::number(const YAML::Node& n, const std::string& key) const {
+  require_defined(*this, n, key, "a number");
   try {
     return n.as<double>();
   } catch (const YAML::Exception&) {
@@ -39,6 +51,7 @@ double Ctx::number(const YAML::Node& n, const std::string& key) const {
 }
 
 int Ctx::integer(const YAML::Node& n, const std::string& key) const {
+  require_defined(*this, n, key, "an integer");
   try {
     return n.as<int>();
   } catch (const YAML::Exception&) {
@@ -49,11 +62,15 @@ int Ctx::integer(const YAML::Node& n, const std::string& key) const {
 }
 
 std::string Ctx::text(const YAML::Node& n, const std::string& key) const {
+  require_defined(*this, n, key, "a string");
   if (!n.IsScalar()) throw err(n, key, "expected a single value").expected("a string");
   return n.Scalar();
 }
 
 solver::Vec3 Ctx::vec(const YAML::Node& n, const std::string& key, int dim) const {
+  require_defined(
+      *this, n, key,
+      fmt::format("a list of {} numbers, e.g. [0.0, 0.0{}]", dim, dim == 3 ? ", 0.0" : ""));
   if (!n.IsSequence() || static_cast<int>(n.size()) != dim)
     throw err(n, key, "wrong vector")
         .expected(
@@ -74,6 +91,7 @@ std::string Ctx::choice(const YAML::Node& n, const std::string& key,
 }
 
 bool Ctx::boolean(const YAML::Node& n, const std::string& key) const {
+  require_defined(*this, n, key, "true or false");
   try {
     return n.as<bool>();
   } catch (const YAML::Exception&) {
@@ -85,6 +103,7 @@ bool Ctx::boolean(const YAML::Node& n, const std::string& key) const {
 
 std::function<double(double)> value_fn(const Ctx& c, const YAML::Node& n, const std::string& key,
                                        std::string& text) {
+  require_defined(c, n, key, "a number or an expression in t");
   if (!n.IsScalar()) throw c.err(n, key, "expected a number or an expression in t");
   text = n.Scalar();
   try {

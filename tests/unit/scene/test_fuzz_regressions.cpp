@@ -38,6 +38,38 @@ TEST(FuzzRegression, SceneKeyThatIsNotAPlainName) {
   std::filesystem::remove_all(dir);
 }
 
+// fuzz_scene: a required key missing from a list item (`holes: [{center: [0.2, 0.5]}]`)
+// escaped load_scene as YAML::InvalidNode ("invalid node; first invalid key: \"radius\""): the
+// number/text/vector accessors asked the absent node its type, which throws. Now an InputError
+// "missing key" naming the key, for each kind of accessor.
+TEST(FuzzRegression, RequiredKeyMissingFromAListItem) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("pdcg_scene_fuzz_key_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "bad.yaml";
+  struct Case {
+    const char* geometry_tail;
+    const char* key;
+  };
+  for (const Case& c : {Case{"holes: [{center: [0.2, 0.5]}]", "geometry.holes[].radius"},
+                        Case{"holes: [{radius: 0.1}]", "geometry.holes[].center"},
+                        Case{"cracks: [{from: [0.0, 0.5]}]", "geometry.cracks[].to"}}) {
+    std::ofstream(path) << "dimension: 2\n"
+                           "geometry: {shape: rectangle, origin: [0.0, 0.0], size: [1.0, 1.0],\n"
+                           "           spacing: 0.1, "
+                        << c.geometry_tail << "}\n";
+    try {
+      (void)scene::load_scene(path);
+      ADD_FAILURE() << c.geometry_tail << ": accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("missing key"), std::string::npos) << what;
+      EXPECT_NE(what.find(c.key), std::string::npos) << what;
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // fuzz_expression: 300 '(' overflowed the stack of the recursive-descent parser (ASan
 // stack-overflow in Parser::unary); a long chain "1+1+…" would overflow it when evaluated
 // (one nested closure per operation). Both are InputErrors now; ordinary nesting still works.
