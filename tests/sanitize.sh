@@ -15,7 +15,8 @@
 #   tests/sanitize.sh -R dump         extra arguments go to ctest (replace the selection)
 #   tests/sanitize.sh --build [target...]   configure and build only (tests/fuzz/run.sh uses
 #                                     this with fuzz_all)
-#   PDCG_ASAN_CLI_ONLY=1 tests/sanitize.sh      only the cli phase
+#   PDCG_ASAN_PHASES="2 3" tests/sanitize.sh     only those phases (1: ctest of the unit tests,
+#                                     2: the cli script tests, 3: the Python module's tests)
 #   PDCG_ASAN_CLI_TESTS='cli.md cli.inspect' ...  only those cli tests in that phase
 #   PDCG_CHECKS_BUILD=DIR             the build tree (default build-checks/)
 #
@@ -31,9 +32,8 @@ if [ ! -f "$B/CMakeCache.txt" ]; then
   if command -v ccache >/dev/null && [ "${CCACHE_DISABLE:-0}" != 1 ]; then
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   fi
-  # Python module off: an ASan-instrumented extension cannot be loaded into Debian's
-  # uninstrumented python3 without preloading the ASan runtime (the python tests run in the
-  # Release tree).
+  # Python module on: phase 3 below loads it into Debian's python3 with the ASan runtime
+  # preloaded (ctest's `python` tests, which would load it without, are left to phase 3).
   # Benchmarks off (not tests). LAMMPS stays on: the unit tests take LAMMPS as their
   # reference; the fuzz harnesses refuse non-native styles themselves (fuzz_potential.hpp).
   cmake -S "$PDCG_ROOT" -B "$B" -G Ninja "${launcher[@]}" \
@@ -41,7 +41,7 @@ if [ ! -f "$B/CMakeCache.txt" ]; then
     -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
-    -DPDCG_FUZZ=ON -DPDCG_ENABLE_BENCHMARKS=OFF -DPDCG_PYTHON=OFF >/dev/null
+    -DPDCG_FUZZ=ON -DPDCG_ENABLE_BENCHMARKS=OFF -DPDCG_PYTHON=ON >/dev/null
 fi
 if [ "${1:-}" = --build ]; then  # --build [target...]: only build (default: everything)
   shift
@@ -100,10 +100,15 @@ export OMP_TOOL=${OMP_TOOL:-disabled}
 cd "$B"
 args=("$@")
 cli_phase=0
+python_phase=0
 if [ ${#args[@]} = 0 ]; then
-  # the cli tests run in their own phase (below) unless the selection leaves them out
+  # the cli tests run in their own phase (below) unless the selection leaves them out; the
+  # python tests in phase 3 (they need the ASan runtime preloaded into python3)
   if [[ "|$exclude|" != *"|cli|"* ]]; then cli_phase=1; fi
-  args=(-LE "$exclude|cli")
+  if [[ "|$exclude|" != *"|python|"* ]] && compgen -G "$B/python/pdcg/_pdcg*.so" >/dev/null; then
+    python_phase=1
+  fi
+  args=(-LE "$exclude|cli|python")
   # Two 3D Newton–GMRES solves take 5–7 min each under ASan on 2 cores (measured 406 s and
   # 320 s; again > 900 s on a loaded machine) and would push CI past its budget; the kernels
   # they exercise (residual, tangent, matrix-free product, GMRES) run under the sanitizers in
@@ -117,7 +122,8 @@ fi
 args+=("${skip_unbuilt[@]}")
 log=$B/sanitize-ctest.log
 status=0
-if [ "${PDCG_ASAN_CLI_ONLY:-0}" = 1 ]; then  # only the cli phase (a local check of it)
+phases=" ${PDCG_ASAN_PHASES:-1 2 3} "
+if [[ "$phases" != *" 1 "* ]]; then  # phase 1 not asked for (a local check of the others)
   : >"$log"
 else
   ctest -V -j"${PDCG_JOBS:-2}" --timeout 1800 "${args[@]}" >"$log" 2>&1 || status=$?
@@ -192,7 +198,7 @@ cli_verdict() {  # $1: the test's log directory; prints FAIL/RETRY/accepted line
             else if (leak) print "accepted " file }' "$f"
   done
 }
-if [ "$cli_phase" = 1 ]; then
+if [ "$cli_phase" = 1 ] && [[ "$phases" == *" 2 "* ]]; then
   mapfile -t cli_tests < <(ctest -N -L cli -LE "$exclude" | sed -n 's/^ *Test *#[0-9]*: \(.*\)$/\1/p' | grep -v '_NOT_BUILT$' || true)
   [ -n "${PDCG_ASAN_CLI_TESTS:-}" ] && read -ra cli_tests <<<"$PDCG_ASAN_CLI_TESTS"
   echo "sanitize: cli phase, ${#cli_tests[@]} tests"
@@ -236,6 +242,36 @@ if [ "$cli_phase" = 1 ]; then
     fi
   done
   echo "sanitize: cli phase $((SECONDS - t_cli)) s"
+fi
+
+# ---- phase 3: the Python module (python/tests) ---------------------------------------------
+# Debian's python3 is not instrumented: the shared ASan runtime (which carries UBSan's
+# handlers too) is preloaded so that the ASan-built extension can load, and leak checking is
+# off (CPython does not free its objects at exit; what this phase is for is use after free and
+# out-of-bounds access in the bindings: bodies and arrays outliving what they came from,
+# python/tests/test_lifetime.py). pytest runs directly, not through ctest, whose ENVIRONMENT
+# property would point PDCG_EXECUTABLE at the `pdcg` executable itself: that carries its own
+# static ASan runtime and refuses the preloaded one, so the tests call it through a wrapper
+# that drops the preload.
+if [ "$python_phase" = 1 ] && [[ "$phases" == *" 3 "* ]]; then
+  rt=$(clang++-14 -print-file-name=libclang_rt.asan-x86_64.so)
+  wrap=$B/sanitize-python
+  rm -rf "$wrap"
+  mkdir -p "$wrap"
+  printf '#!/bin/sh\nunset LD_PRELOAD\nexec %q "$@"\n' "$B/pdcg" >"$wrap/pdcg"
+  chmod +x "$wrap/pdcg"
+  t_py=$SECONDS
+  if (cd "$wrap" && env LD_PRELOAD="$rt" \
+      ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" PYTHONPATH="$B/python" OMP_NUM_THREADS=1 \
+      PDCG_EXECUTABLE="$wrap/pdcg" PDCG_SOURCE_DIR="$PDCG_ROOT" PDCG_BINARY_DIR="$B" \
+      /usr/bin/python3 -m pytest -q -p no:cacheprovider "$PDCG_ROOT/python/tests" \
+      >"$wrap/pytest.log" 2>&1); then
+    echo "ok   python tests under ASan + UBSan: $(tail -1 "$wrap/pytest.log") ($((SECONDS - t_py)) s)"
+  else
+    echo "FAIL python tests under ASan + UBSan; last lines:"
+    tail -30 "$wrap/pytest.log"
+    status=1
+  fi
 fi
 if grep -q '^FAIL ' <<<"$verdict"; then
   status=1
