@@ -1,11 +1,17 @@
 /// `pdcg run scene.yaml [-o DIR | --restart DIR]`: quasi-static (Newton) or explicit dynamic
 /// run of a scene.
+#include <cstdio>
 #include <memory>
 #include <optional>
 
 #include "command.hpp"
+#include "pdcg/config.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/scene/scene.hpp"
+#if PDCG_HAVE_PETSC
+#include "pdcg/core/log.hpp"
+#include "pdcg/parallel/petsc.hpp"
+#endif
 
 namespace {
 
@@ -13,6 +19,7 @@ struct Options {
   std::string scene;
   std::string out;
   std::string restart;
+  std::string petsc_options;
 };
 
 pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
@@ -23,10 +30,16 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("-o,--output", opts->out, "Output directory (overrides output.directory)");
   sub->add_option("--restart", opts->restart,
                   "Continue the run in DIR from its last checkpoint (output.checkpoint_every)");
+  sub->add_option("--petsc-options", opts->petsc_options,
+                  "PETSc options of the distributed solve, e.g. \"-ksp_rtol 1e-10\" "
+                  "(also: environment variable PETSC_OPTIONS; docs/scale-out.md)");
   sub->footer(
       "Writes results_NNNN.h5 per output step, results.xdmf (open in ParaView),\n"
       "reactions.csv (dynamic runs: series.csv) and scene.resolved.yaml.\n"
+      "Under mpirun (PETSc build) the quasi-static run is split over the processes and rank 0\n"
+      "writes the outputs (docs/scale-out.md).\n"
       "Examples:\n  pdcg run plate.yaml -o out/plate\n"
+      "  mpirun -n 2 pdcg run plate.yaml -o out/plate   # two processes, MUMPS\n"
       "  pdcg run bar.yaml --restart out/bar   # continue a killed run from its last checkpoint");
   return [opts] {
     const auto s = pdcg::scene::load_scene(opts->scene);
@@ -40,6 +53,45 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
             .fix("give --restart DIR alone");
       ro.restart = opts->restart;
     }
+#if PDCG_HAVE_PETSC
+    // PETSc is started only for a run under mpirun or a scene that asks for its solvers: a
+    // serial run of a serial scene does not touch MPI (it behaves exactly as without PETSc).
+    if (pdcg::parallel::launched_by_mpirun() || pdcg::solver::is_petsc_solver(s.newton.linear) ||
+        !opts->petsc_options.empty()) {
+      pdcg::parallel::Session session(opts->petsc_options);
+      ro.processes = session.size();
+      ro.rank = session.rank();
+      if (session.rank() != 0 && pdcg::log::level() < pdcg::log::Level::warn)
+        pdcg::log::set_level(pdcg::log::Level::warn);  // one log: rank 0's
+      ro.distribute = [](pdcg::solver::Model& m, pdcg::solver::LinearSolver l) {
+        return pdcg::parallel::distribute(m, l);
+      };
+      if (session.size() == 1) {
+        pdcg::scene::run_scene(s, ro);
+        return 0;
+      }
+      // Several processes: an error on one must not leave the others waiting in a collective
+      // call; the message is printed by the process(es) that met it, then all are stopped.
+      try {
+        pdcg::scene::run_scene(s, ro);
+      } catch (const pdcg::InputError& e) {
+        std::fprintf(stderr, "pdcg: error: %s\n", e.what());
+        pdcg::parallel::Session::abort(2);
+      } catch (const pdcg::NumericalError& e) {
+        std::fprintf(stderr, "pdcg: numerical failure: %s\n", e.what());
+        pdcg::parallel::Session::abort(1);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "pdcg: error: %s\n", e.what());
+        pdcg::parallel::Session::abort(1);
+      }
+      return 0;
+    }
+#else
+    if (!opts->petsc_options.empty())
+      throw pdcg::InputError("this pdcg is built without PETSc")
+          .key("--petsc-options")
+          .fix("build with PETSc (cmake -DPDCG_ENABLE_PETSC=ON; docs/scale-out.md)");
+#endif
     pdcg::scene::run_scene(s, ro);
     return 0;
   };
