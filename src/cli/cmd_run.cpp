@@ -1,8 +1,10 @@
 /// `pdcg run scene.yaml [-o DIR | --restart DIR]`: quasi-static (Newton) or explicit dynamic
 /// run of a scene.
+#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "command.hpp"
 #include "pdcg/config.hpp"
@@ -71,18 +73,24 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
         return 0;
       }
       // Several processes: an error on one must not leave the others waiting in a collective
-      // call; the message is printed by the process(es) that met it, then all are stopped.
+      // call, so the process that meets it stops all (MPI_Abort, with the exit code of the
+      // serial run). Most errors (a bad scene) meet every process at once: rank 0 prints and
+      // aborts at once, the others wait a second first, so the message is printed once; an
+      // error of another process alone is still printed, a second later.
+      const auto fail = [&](const char* kind, const char* what, int code) {
+        if (session.rank() != 0) std::this_thread::sleep_for(std::chrono::seconds(1));
+        std::fprintf(stderr, "pdcg: %s: %s\n", kind, what);
+        std::fflush(stderr);
+        pdcg::parallel::Session::abort(code);
+      };
       try {
         pdcg::scene::run_scene(s, ro);
       } catch (const pdcg::InputError& e) {
-        std::fprintf(stderr, "pdcg: error: %s\n", e.what());
-        pdcg::parallel::Session::abort(2);
+        fail("error", e.what(), 2);
       } catch (const pdcg::NumericalError& e) {
-        std::fprintf(stderr, "pdcg: numerical failure: %s\n", e.what());
-        pdcg::parallel::Session::abort(1);
+        fail("numerical failure", e.what(), 1);
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "pdcg: error: %s\n", e.what());
-        pdcg::parallel::Session::abort(1);
+        fail("error", e.what(), 1);
       }
       return 0;
     }

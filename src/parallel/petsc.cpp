@@ -72,7 +72,10 @@ class PetscDistribution final : public solver::Distribution {
              solver::StepReport& rep) override;
 
  private:
-  void check_options_left();
+  /// Throws InputError naming the PETSc options nothing used (skip_viewers: not those read
+  /// only when KSPSolve ends, -ksp_view and the like).
+  void check_options_left(bool skip_viewers);
+  void assemble(const SparseRow& K);
 
   MPI_Comm comm_ = PETSC_COMM_WORLD;
   int rank_ = 0, size_ = 1, d_ = 2;
@@ -101,6 +104,7 @@ class PetscDistribution final : public solver::Distribution {
   KSP ksp_ = nullptr;
   MatNullSpace near_null_ = nullptr;
   bool options_checked_ = false;
+  PetscInt n_unused_ = 0;
   std::vector<PetscInt> cols_;
   std::vector<PetscScalar> vals_;
 };
@@ -225,7 +229,6 @@ void PetscDistribution::sum_scalars(Eigen::VectorXd& v) {
 }
 
 void PetscDistribution::setup(const std::vector<int>& free_index, const SparseRow& K) {
-  (void)K;
   free_index_ = free_index;
   const std::size_t n = free_index.size();
   // PETSc rows of the free dofs: process by process, point by point (PETSc point order).
@@ -348,14 +351,25 @@ void PetscDistribution::setup(const std::vector<int>& free_index, const SparseRo
       throw Error("internal error: the distributed run needs mumps, gamg or hypre");
   }
   check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+  // Unknown options are refused before the run begins: what KSPSetFromOptions left is
+  // looked at again after setting the solver up with the tangent at u = 0 (factorisation
+  // options, -mat_mumps_*, are read there), which costs a factorisation only when such
+  // options are given; the options read at the end of a solve are checked after the first.
+  PetscBool any_left = PETSC_FALSE;
+  check(PetscOptionsAllUsed(nullptr, &n_unused_), "PetscOptionsAllUsed");
+  any_left = n_unused_ > 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (any_left) {
+    assemble(K);
+    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    check(KSPSetUp(ksp_), "KSPSetUp");
+    check_options_left(true);
+  }
 }
 
-bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx,
-                              solver::StepReport& rep) {
+void PetscDistribution::assemble(const SparseRow& K) {
   // Assembly: this process's partial rows (its stencils' members and its weak rows), free
   // rows and columns, added into the distributed matrix; rows of other processes' points go
   // through PETSc's stash to their owners.
-  const auto ta = std::chrono::steady_clock::now();
   check(MatZeroEntries(A_), "MatZeroEntries");
   const int* outer = K.outerIndexPtr();
   const int* inner = K.innerIndexPtr();
@@ -380,6 +394,11 @@ bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Ei
     }
   check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+}
+
+bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx,
+                              solver::StepReport& rep) {
+  assemble(K);
   // rhs: replicated; each process writes its rows
   {
     PetscScalar* b = nullptr;
@@ -400,10 +419,9 @@ bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Ei
   rep.krylov_iterations += static_cast<int>(its);
   rep.factor_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
-  (void)ta;
   if (!options_checked_) {
     options_checked_ = true;
-    check_options_left();
+    check_options_left(false);
   }
   if (reason < 0) {
     log::warn("PETSc KSP ({}) did not converge: reason {} after {} iterations",
@@ -421,13 +439,20 @@ bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Ei
   return true;
 }
 
-void PetscDistribution::check_options_left() {
+void PetscDistribution::check_options_left(bool skip_viewers) {
   PetscInt n = 0;
   char** names = nullptr;
   char** values = nullptr;
   check(PetscOptionsLeftGet(nullptr, &n, &names, &values), "PetscOptionsLeftGet");
   std::vector<std::string> left;
-  for (PetscInt i = 0; i < n; ++i) left.push_back(std::string("-") + names[i]);
+  for (PetscInt i = 0; i < n; ++i) {
+    const std::string name = names[i];
+    bool late = false;  // read when a solve ends or at PetscFinalize
+    for (const char* p : {"ksp_view", "ksp_converged_reason", "pc_view", "mat_view", "vec_view",
+                          "log_view", "options_", "help", "malloc", "memory_view", "info"})
+      late = late || name.rfind(p, 0) == 0;
+    if (!(skip_viewers && late)) left.push_back("-" + name);
+  }
   PetscOptionsLeftRestore(nullptr, &n, &names, &values);
   if (!left.empty())
     throw InputError(fmt::format("PETSc option{} not used by the solver: {}",

@@ -39,7 +39,7 @@ void refuse_distributed(const Scene& s, const RunOptions& ro) {
   if (!s.effects.empty()) refuse("effects", "effects");
   if (s.newton.matrix_free) refuse("the matrix-free GMRES", "solver.matrix_free");
   if (s.newton.check_stability) refuse("the stability check", "solver.check_stability");
-  if (s.checkpoint_every > 0) refuse("checkpoints", "output.checkpoint_every");
+  if (s.checkpoint_every > 0) refuse("checkpointing", "output.checkpoint_every");
   using solver::LinearSolver;
   if (s.newton.linear == LinearSolver::gmres || s.newton.linear == LinearSolver::bicgstab)
     throw InputError(fmt::format("solver.linear: {} is a serial solver; on several MPI processes "
