@@ -63,8 +63,8 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
       pdcg::parallel::Session session(opts->petsc_options);
       ro.processes = session.size();
       ro.rank = session.rank();
-      if (session.rank() != 0 && pdcg::log::level() < pdcg::log::Level::warn)
-        pdcg::log::set_level(pdcg::log::Level::warn);  // one log: rank 0's
+      // one log, rank 0's (every process runs the same logic and meets the same warnings)
+      if (session.rank() != 0) pdcg::log::set_level(pdcg::log::Level::error);
       ro.distribute = [](pdcg::solver::Model& m, pdcg::solver::LinearSolver l) {
         return pdcg::parallel::distribute(m, l);
       };

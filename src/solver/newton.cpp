@@ -142,7 +142,8 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
         .expected(opt_.distribution ? "mumps, gamg or hypre"
                                     : "cholmod, umfpack, lu, bicgstab or gmres")
         .fix(opt_.distribution ? "set solver.linear: mumps (direct), gamg or hypre"
-                               : "run with a pdcg built with PETSc (PDCG_ENABLE_PETSC), or set "
+                               : "PETSc's solvers run through `pdcg run` of a build with PETSc "
+                                 "(PDCG_ENABLE_PETSC, docs/scale-out.md); otherwise set "
                                  "solver.linear: umfpack");
   if (opt_.distribution && (opt_.matrix_free || opt_.check_stability))
     throw InputError("not implemented on PETSc (docs/scale-out.md)")
