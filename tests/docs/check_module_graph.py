@@ -103,8 +103,9 @@ def read_doc(text, modules, options):
                     if options.get(cond.group(2), False):
                         items.add(cond.group(1))
                     continue
-                if it == "every module above":
-                    items |= {f"pdcg::{x}" for x in modules}
+                but = re.fullmatch(r"every module above(?: but (.+))?", it)
+                if but:
+                    items |= {f"pdcg::{x}" for x in modules} - {strip_md(but.group(1) or "")}
                     continue
                 items.add(it)
             cols.append(items)
