@@ -361,8 +361,11 @@ bool Model::evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const {
   if (tangent) Abar_.resize(nw);
   const Stencils& Pst = body_->point_stencils();
   bool ok = true;
+  // restrict_evaluation: only the stresses the evaluated weak rows read
+  const char* need = weak_needed_.empty() ? nullptr : weak_needed_.data();
 #pragma omp parallel for schedule(static) reduction(&& : ok)
   for (std::size_t w = 0; w < nw; ++w) {
+    if (need && !need[w]) continue;
     const int k = weak_points_[w];
     const Mat3 F = stencil_gradient(Pst, static_cast<std::size_t>(k), u);
     if (!material_->evaluate_at(k, F, nullptr, &Pbar_[w], tangent ? &Abar_[w] : nullptr))
@@ -486,6 +489,7 @@ void Model::restrict_evaluation(const std::vector<char>& owned) {
     energy_ = &all;
     owned_stencils_ = Stencils{};
     weak_row_owned_.clear();
+    weak_needed_.clear();
   } else {
     if (owned.size() != body_->size())
       throw Error("internal error: restrict_evaluation needs one flag per point");
@@ -503,8 +507,12 @@ void Model::restrict_evaluation(const std::vector<char>& owned) {
     }
     energy_ = &owned_stencils_;
     weak_row_owned_.assign(weak_points_.size(), 0);
-    for (std::size_t w = 0; w < weak_points_.size(); ++w)
+    weak_needed_.assign(weak_points_.size(), 0);
+    for (std::size_t w = 0; w < weak_points_.size(); ++w) {
       weak_row_owned_[w] = owned[static_cast<std::size_t>(weak_points_[w])];
+      if (weak_row_owned_[w])
+        for (auto c = corr_.begin(w); c < corr_.end(w); ++c) weak_needed_[corr_.index[c]] = 1;
+    }
   }
   // The reverse index, the adjacency and the packed tangents follow the evaluated stencils.
   indexed_ = false;

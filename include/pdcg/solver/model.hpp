@@ -142,9 +142,11 @@ class Model {
   /// those points. internal_force / internal_force_and_tangent then return this process's
   /// partial sums (f and K over all d·N dofs, nonzero only where its stencils and rows
   /// reach); the sum over the processes of a partition is the unrestricted result (up to
-  /// summation order). The owned stencils are copied into a contiguous set, so the kernels
-  /// run unchanged (no mask in the hot loops). Empty: every stencil and row (the default).
-  /// Not for rupture (broken stencils are not followed) nor for the matrix-free operator.
+  /// summation order). The evaluation then reads u only at the members of the owned stencils
+  /// and at the point families of the weak points whose stresses the owned weak rows read (the
+  /// ghost points of docs/scale-out.md §2). The owned stencils are copied into a contiguous set, so
+  /// the kernels run unchanged (no mask in the hot loops). Empty: every stencil and row (the
+  /// default). Not for rupture (broken stencils are not followed) nor for the matrix-free operator.
   void restrict_evaluation(const std::vector<char>& owned);
   bool restricted() const { return energy_ == &owned_stencils_; }
   /// The energy stencils evaluated (all, or this process's after restrict_evaluation).
@@ -188,6 +190,7 @@ class Model {
   const Stencils* energy_;            // bond or point stencils (or owned_stencils_)
   Stencils owned_stencils_;           // restrict_evaluation: this process's energy stencils
   std::vector<char> weak_row_owned_;  // per weak row (empty: all rows evaluated)
+  std::vector<char> weak_needed_;     // per weak point: its stress P(F̄) is read (empty: all)
   // Reverse index: for each point, the (stencil, member position) pairs holding it (built
   // lazily by build_index(): 8 bytes per stencil member, ≈ 59 kB per 3D point).
   mutable bool indexed_ = false;
