@@ -7,12 +7,12 @@
 #include <thread>
 
 #include "command.hpp"
+#include "parallel_module.hpp"
 #include "pdcg/config.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/scene/scene.hpp"
 #if PDCG_HAVE_PETSC
 #include "pdcg/core/log.hpp"
-#include "pdcg/parallel/petsc.hpp"
 #endif
 
 namespace {
@@ -58,15 +58,16 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
 #if PDCG_HAVE_PETSC
     // PETSc is started only for a run under mpirun or a scene that asks for its solvers: a
     // serial run of a serial scene does not touch MPI (it behaves exactly as without PETSc).
-    if (pdcg::parallel::launched_by_mpirun() || pdcg::solver::is_petsc_solver(s.newton.linear) ||
+    if (pdcg::cli::launched_by_mpirun() || pdcg::solver::is_petsc_solver(s.newton.linear) ||
         !opts->petsc_options.empty()) {
-      pdcg::parallel::Session session(opts->petsc_options);
+      const pdcg::cli::ParallelSession session(opts->petsc_options);
+      const pdcg::parallel::Api& api = pdcg::cli::parallel_module();
       ro.processes = session.size();
       ro.rank = session.rank();
       // one log, rank 0's (every process runs the same logic and meets the same warnings)
       if (session.rank() != 0) pdcg::log::set_level(pdcg::log::Level::error);
-      ro.distribute = [](pdcg::solver::Model& m, pdcg::solver::LinearSolver l) {
-        return pdcg::parallel::distribute(m, l);
+      ro.distribute = [&api](pdcg::solver::Model& m, pdcg::solver::LinearSolver l) {
+        return api.distribute(m, l);
       };
       if (session.size() == 1) {
         pdcg::scene::run_scene(s, ro);
@@ -81,7 +82,7 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
         if (session.rank() != 0) std::this_thread::sleep_for(std::chrono::seconds(1));
         std::fprintf(stderr, "pdcg: %s: %s\n", kind, what);
         std::fflush(stderr);
-        pdcg::parallel::Session::abort(code);
+        session.abort(code);
       };
       try {
         pdcg::scene::run_scene(s, ro);

@@ -17,9 +17,7 @@
 #if PDCG_ENABLE_LAMMPS
 #include <library.h>
 #endif
-#if PDCG_HAVE_PETSC
-#include "pdcg/parallel/petsc.hpp"
-#endif
+#include "parallel_module.hpp"
 
 namespace {
 
@@ -55,8 +53,8 @@ int run() {
               SPDLOG_VER_MINOR, SPDLOG_VER_PATCH);
   std::printf("OpenMP      %d threads\n", pdcg::omp_max_threads());
 #if PDCG_HAVE_PETSC
-  std::printf("PETSc       %s\n", pdcg::parallel::petsc_version().c_str());
-  std::printf("MPI         %s\n", pdcg::parallel::mpi_library_version().c_str());
+  std::printf("PETSc       %s\n", pdcg::cli::parallel_module().petsc_version().c_str());
+  std::printf("MPI         %s\n", pdcg::cli::parallel_module().mpi_library_version().c_str());
 #else
   std::printf("PETSc       not enabled (PDCG_ENABLE_PETSC=OFF or PETSc not found)\n");
 #endif

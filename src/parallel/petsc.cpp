@@ -523,3 +523,21 @@ std::shared_ptr<solver::Distribution> distribute(Model& model, LinearSolver line
 }
 
 }  // namespace pdcg::parallel
+
+extern "C" const pdcg::parallel::Api* pdcg_parallel_api() {
+  using namespace pdcg::parallel;
+  static const Api api{
+      &petsc_version,
+      &mpi_library_version,
+      [](const std::string& options, int* rank, int* size) -> void* {
+        auto* s = new Session(options);
+        *rank = s->rank();
+        *size = s->size();
+        return s;
+      },
+      [](void* s) { delete static_cast<Session*>(s); },
+      &Session::abort,
+      &distribute,
+  };
+  return &api;
+}

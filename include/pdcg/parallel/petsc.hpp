@@ -56,4 +56,20 @@ std::vector<int> partition_points(const std::vector<solver::Vec3>& x, int dimens
 /// StaticSolver takes (NewtonOptions::distribution). `linear` is mumps, gamg or hypre.
 std::shared_ptr<solver::Distribution> distribute(solver::Model& model, solver::LinearSolver linear);
 
+/// The module's entry points as one table, for the `pdcg` executable, which loads the module
+/// only when a run uses it (dlopen: linked, PETSc and its libraries cost every start of the
+/// executable ~45 ms of CPU and 16 MB; docs/scale-out.md §1). C linkage: `pdcg_parallel_api`.
+struct Api {
+  std::string (*petsc_version)();
+  std::string (*mpi_library_version)();
+  /// new Session(options); rank and size set
+  void* (*session_begin)(const std::string& options, int* rank, int* size);
+  void (*session_end)(void* session);
+  void (*abort)(int code);  ///< MPI_Abort; does not return
+  std::shared_ptr<solver::Distribution> (*distribute)(solver::Model& model,
+                                                      solver::LinearSolver linear);
+};
+
 }  // namespace pdcg::parallel
+
+extern "C" const pdcg::parallel::Api* pdcg_parallel_api();
