@@ -13,7 +13,8 @@
 #       block3d N       a 3D block on N processes (MUMPS) = serial UMFPACK within 1e-10 (as above).
 #       too_many        4 points on 5 processes: refused (exit 2), clear message, nothing written.
 #       bad_option      an unknown PETSc option: refused (exit 2) naming it, nothing written.
-#       refused         a checkpointing scene on 2 processes: refused (exit 2) naming the key.
+#       refused         checkpointing, rupture, explicit dynamics on 2 processes: refused (exit 2)
+#                       naming the key, nothing written.
 # Root (CI): OpenMPI needs OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM), set by ctest (tests/CMakeLists.txt).
 set -euo pipefail
 PDCG=$1 MPIEXEC=$2 CASE=$3 N=${4:-2}
@@ -62,11 +63,21 @@ case "$CASE" in
       mpi 2 "$PDCG" -q run "$HERE/plate.yaml" -o "$W/bad" --petsc-options "-ksp_no_such_option 3"
     ;;
   refused)
+    # checkpointing, rupture and explicit dynamics on 2 processes: refused before any work,
+    # naming the key
     sed 's/output: {directory: plate, every: 5}/output: {directory: plate, every: 5, checkpoint_every: 1}/' \
       "$HERE/plate.yaml" >"$W/ck.yaml"
     grep -q checkpoint_every "$W/ck.yaml"
     expect_refusal "output.checkpoint_every: checkpointing is not implemented on several MPI processes" \
       "$W/ck" -- mpi 2 "$PDCG" -q run "$W/ck.yaml" -o "$W/ck"
+    { cat "$HERE/plate.yaml"; echo "effects: [rupture]"
+      echo "rupture: {criterion: bond_stretch, critical: 1.15}"; } >"$W/rup.yaml"
+    expect_refusal "effects: rupture is not implemented on several MPI processes" \
+      "$W/rup" -- mpi 2 "$PDCG" -q run "$W/rup.yaml" -o "$W/rup"
+    { grep -v '^loading:' "$HERE/plate.yaml"; echo "effects: [inertia]"
+      echo "inertia: {end_time: 1.0}"; } >"$W/dyn.yaml"
+    expect_refusal "inertia: explicit dynamics is not implemented on several MPI processes" \
+      "$W/dyn" -- mpi 2 "$PDCG" -q run "$W/dyn.yaml" -o "$W/dyn"
     ;;
   *)
     echo "unknown case $CASE"
