@@ -43,7 +43,8 @@ endfunction()
 # pdcg_write_module_graph(<file>): writes the link properties of every module
 # target, the umbrella pdcg::pdcg and the pdcg executable to <file>, one line per
 # target: "target<TAB>kind<TAB>LINK_LIBRARIES<TAB>INTERFACE_LINK_LIBRARIES" (lists
-# ';'-separated, unevaluated), plus "option<TAB>PDCG_ENABLE_LAMMPS<TAB>ON|OFF".
+# ';'-separated, unevaluated), plus "option<TAB>PDCG_ENABLE_LAMMPS<TAB>ON|OFF" and the same for
+# PDCG_HAVE_PETSC (pdcg::parallel built).
 # Called deferred at the end of the top-level directory (src/CMakeLists.txt), so
 # every target_link_libraries call is included. Read by
 # tests/docs/check_module_graph.py.
@@ -70,6 +71,11 @@ function(pdcg_write_module_graph file)
     string(APPEND _out "option\tPDCG_ENABLE_LAMMPS\tON\n")
   else()
     string(APPEND _out "option\tPDCG_ENABLE_LAMMPS\tOFF\n")
+  endif()
+  if(PDCG_HAVE_PETSC)
+    string(APPEND _out "option\tPDCG_HAVE_PETSC\tON\n")
+  else()
+    string(APPEND _out "option\tPDCG_HAVE_PETSC\tOFF\n")
   endif()
   file(WRITE ${file} "${_out}")
 endfunction()

@@ -3,19 +3,21 @@
 #include <cholmod.h>
 #include <fftw3.h>
 #include <fmt/format.h>
-#include <spdlog/version.h>
 #include <omp.h>
+#include <spdlog/version.h>
 #include <umfpack.h>
 
 #include <cstdio>
 
 #include "command.hpp"
+#include "pdcg/config.hpp"
 #include "pdcg/core/version.hpp"
 #include "pdcg/io/hdf5.hpp"
 
 #if PDCG_ENABLE_LAMMPS
 #include <library.h>
 #endif
+#include "parallel_module.hpp"
 
 namespace {
 
@@ -50,6 +52,12 @@ int run() {
   std::printf("fmt         %d\nspdlog      %d.%d.%d\n", FMT_VERSION, SPDLOG_VER_MAJOR,
               SPDLOG_VER_MINOR, SPDLOG_VER_PATCH);
   std::printf("OpenMP      %d threads\n", pdcg::omp_max_threads());
+#if PDCG_HAVE_PETSC
+  std::printf("PETSc       %s\n", pdcg::cli::parallel_module().petsc_version().c_str());
+  std::printf("MPI         %s\n", pdcg::cli::parallel_module().mpi_library_version().c_str());
+#else
+  std::printf("PETSc       not enabled (PDCG_ENABLE_PETSC=OFF or PETSc not found)\n");
+#endif
   return 0;
 }
 

@@ -140,7 +140,8 @@ class SolverSection final : public Component {
       s.newton.check_stability = c.boolean(v["check_stability"], "solver.check_stability");
     if (v["linear"]) {
       s.linear_name =
-          c.choice(v["linear"], "solver.linear", {"cholmod", "umfpack", "lu", "bicgstab", "gmres"});
+          c.choice(v["linear"], "solver.linear",
+                   {"cholmod", "umfpack", "lu", "bicgstab", "gmres", "mumps", "gamg", "hypre"});
       s.newton.linear = solver::parse_linear_solver(s.linear_name);
     }
     if (v["matrix_free"]) {

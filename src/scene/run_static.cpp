@@ -22,7 +22,45 @@ void run_scene(const Scene& s, const std::optional<std::filesystem::path>& out_o
   run_scene(s, o);
 }
 
+namespace {
+// Distributed runs (docs/scale-out.md): what is not implemented on several processes is
+// refused before any work, naming the scene key and the fix.
+void refuse_distributed(const Scene& s, const RunOptions& ro) {
+  auto refuse = [&](const std::string& what, const std::string& key) {
+    throw InputError(fmt::format("{} is not implemented on several MPI processes ({} processes)",
+                                 what, ro.processes))
+        .source(s.source.string())
+        .key(key)
+        .fix("run on one process (without mpirun), or drop " + key);
+  };
+  if (ro.restart) refuse("restart from a checkpoint", "--restart");
+  if (s.inertia) refuse("explicit dynamics", "inertia");
+  if (s.rupture) refuse("rupture", "effects");
+  if (!s.effects.empty()) refuse("effects", "effects");
+  if (s.newton.matrix_free) refuse("the matrix-free GMRES", "solver.matrix_free");
+  if (s.newton.check_stability) refuse("the stability check", "solver.check_stability");
+  if (s.checkpoint_every > 0) refuse("checkpointing", "output.checkpoint_every");
+  using solver::LinearSolver;
+  if (s.newton.linear == LinearSolver::gmres || s.newton.linear == LinearSolver::bicgstab)
+    throw InputError(fmt::format("solver.linear: {} is a serial solver; on several MPI processes "
+                                 "the linear solve is PETSc's",
+                                 solver::to_string(s.newton.linear)))
+        .source(s.source.string())
+        .key("solver.linear")
+        .value(solver::to_string(s.newton.linear))
+        .expected("mumps, gamg or hypre (cholmod, umfpack and lu become mumps)")
+        .fix("set solver.linear: gamg or hypre (iterative) or mumps (direct)");
+}
+}  // namespace
+
 void run_scene(const Scene& s, const RunOptions& ro) {
+  if (ro.processes > 1) try {
+      refuse_distributed(s, ro);
+    } catch (InputError& e) {
+      throw with_line(s, e);
+    }
+  // Only rank 0 writes (outputs, checks of the directory); every process runs the same logic.
+  const bool writer = ro.rank == 0;
   const std::filesystem::path dir =
       ro.restart ? *ro.restart : (ro.output ? *ro.output : s.output_directory);
   std::optional<Restart> restart;
@@ -40,8 +78,8 @@ void run_scene(const Scene& s, const RunOptions& ro) {
          p = p.parent_path())
       created.push_back(p);
   }
-  io::require_writable_directory(dir, dir_option);
-  if (const int n = io::remove_stale_temporaries(dir))
+  if (writer) io::require_writable_directory(dir, dir_option);
+  if (const int n = writer ? io::remove_stale_temporaries(dir) : 0)
     log::info("removed {} temporary file{} left in {} by a killed run", n, n == 1 ? "" : "s",
               dir.string());
   bool outputs_begun = false;
@@ -56,6 +94,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   } remove_created{created, outputs_begun};
   auto begin_outputs = [&] {
     outputs_begun = true;
+    if (!writer) return;
     io::AtomicTextFile f(dir / "scene.resolved.yaml");
     f.stream() << resolved_yaml(s);
     f.commit();
@@ -91,6 +130,15 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   }
   solver::NewtonOptions nopt = s.newton;
   nopt.steps = s.steps;
+  if (ro.distribute) {
+    using solver::LinearSolver;
+    if (!solver::is_petsc_solver(nopt.linear)) {
+      log::info("{} MPI processes: solver.linear {} → mumps (PETSc's MUMPS LU)", ro.processes,
+                solver::to_string(nopt.linear));
+      nopt.linear = LinearSolver::mumps;
+    }
+    nopt.distribution = ro.distribute(model, nopt.linear);
+  }
   std::unique_ptr<solver::StaticSolver> solver_ptr;
   try {
     solver_ptr = std::make_unique<solver::StaticSolver>(model, dsets, tsets, nopt);
@@ -166,6 +214,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     csv << "\n";
   }
   auto write_csv = [&] {
+    if (!writer) return;
     io::AtomicTextFile f(dir / "reactions.csv");
     f.stream() << csv.str();
     f.commit();
@@ -188,6 +237,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
     ++counter;
     const bool last = rep.t >= 1.0 - 1e-12;
     if (counter % s.output_every != 0 && !last) return;
+    if (!writer) return;
     write_fields(dir, s, body, model, *material, solver.displacement(), nullptr, s.rupture,
                  rep.step, [&](io::H5Writer& h5) {
                    h5.attribute("/", "step", static_cast<std::int64_t>(rep.step));

@@ -308,7 +308,7 @@ void Model::build_index() const {
         const int s = member_of_.index[q];
         for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) add(S.index[r]);
       }
-      if (const int w = weak_id_[k]; w >= 0)
+      if (const int w = weak_id_[k]; w >= 0 && (weak_row_owned_.empty() || weak_row_owned_[w]))
         for (auto c = corr_.begin(w); c < corr_.end(w); ++c) {
           const int l = weak_points_[corr_.index[c]];
           for (auto r = Pst.offsets[l]; r < Pst.offsets[l + 1]; ++r) add(Pst.index[r]);
@@ -361,8 +361,11 @@ bool Model::evaluate_weak_rows(const Eigen::VectorXd& u, bool tangent) const {
   if (tangent) Abar_.resize(nw);
   const Stencils& Pst = body_->point_stencils();
   bool ok = true;
+  // restrict_evaluation: only the stresses the evaluated weak rows read
+  const char* need = weak_needed_.empty() ? nullptr : weak_needed_.data();
 #pragma omp parallel for schedule(static) reduction(&& : ok)
   for (std::size_t w = 0; w < nw; ++w) {
+    if (need && !need[w]) continue;
     const int k = weak_points_[w];
     const Mat3 F = stencil_gradient(Pst, static_cast<std::size_t>(k), u);
     if (!material_->evaluate_at(k, F, nullptr, &Pbar_[w], tangent ? &Abar_[w] : nullptr))
@@ -470,10 +473,53 @@ bool Model::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
   const bool ok = d_ == 2 ? residual_kernel<2>(u, f) : residual_kernel<3>(u, f);
   if (!ok || !evaluate_weak_rows(u, false)) return false;
   const std::size_t nw = weak_points_.size();
+  const char* own = weak_row_owned_.empty() ? nullptr : weak_row_owned_.data();
 #pragma omp parallel for schedule(static)
-  for (std::size_t w = 0; w < nw; ++w) subtract_correction(w, f);
+  for (std::size_t w = 0; w < nw; ++w)
+    if (!own || own[w]) subtract_correction(w, f);
   if (!anchor_points_.empty()) add_anchors(u, f, nullptr);
   return true;
+}
+
+void Model::restrict_evaluation(const std::vector<char>& owned) {
+  const Stencils& all = opt_.correspondence == Correspondence::bond_associated
+                            ? body_->bond_stencils()
+                            : body_->point_stencils();
+  if (owned.empty()) {
+    energy_ = &all;
+    owned_stencils_ = Stencils{};
+    weak_row_owned_.clear();
+    weak_needed_.clear();
+  } else {
+    if (owned.size() != body_->size())
+      throw Error("internal error: restrict_evaluation needs one flag per point");
+    Stencils& S = owned_stencils_;
+    S = Stencils{};
+    for (std::size_t s = 0; s < all.size(); ++s) {
+      if (!owned[static_cast<std::size_t>(all.center[s])]) continue;
+      S.center.push_back(all.center[s]);
+      S.weight.push_back(all.weight[s]);
+      S.index.insert(S.index.end(), all.index.begin() + all.offsets[s],
+                     all.index.begin() + all.offsets[s + 1]);
+      S.grad.insert(S.grad.end(), all.grad.begin() + all.offsets[s] * d_,
+                    all.grad.begin() + all.offsets[s + 1] * d_);
+      S.offsets.push_back(static_cast<std::int64_t>(S.index.size()));
+    }
+    energy_ = &owned_stencils_;
+    weak_row_owned_.assign(weak_points_.size(), 0);
+    weak_needed_.assign(weak_points_.size(), 0);
+    for (std::size_t w = 0; w < weak_points_.size(); ++w) {
+      weak_row_owned_[w] = owned[static_cast<std::size_t>(weak_points_[w])];
+      if (weak_row_owned_[w])
+        for (auto c = corr_.begin(w); c < corr_.end(w); ++c) weak_needed_[corr_.index[c]] = 1;
+    }
+  }
+  // The reverse index, the adjacency and the packed tangents follow the evaluated stencils.
+  indexed_ = false;
+  member_of_ = Csr{};
+  member_pos_.clear();
+  adjacency_ = Csr{};
+  Apk_.clear();
 }
 
 void Model::subtract_correction(std::size_t w, Eigen::VectorXd& f) const {
@@ -549,7 +595,7 @@ void Model::assemble_rows(Eigen::VectorXd& f, SparseRow& K) const {
             }
         }
       }
-      if (const int w = weak_id_[k]; w >= 0) {
+      if (const int w = weak_id_[k]; w >= 0 && (weak_row_owned_.empty() || weak_row_owned_[w])) {
         subtract_correction(static_cast<std::size_t>(w), f);
         // −Σ_l A(F̄_l) : (c_kl ⊗ Ḡ_l^n) over the correction's stresses l and their families
         for (auto c = corr_.begin(w); c < corr_.end(w); ++c) {
@@ -730,7 +776,10 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
 }
 
 std::vector<Mat3> Model::point_deformation_gradients(const Eigen::VectorXd& u) const {
-  const Stencils& S = *energy_;
+  // every stencil, also after restrict_evaluation (the output fields of a distributed run)
+  const Stencils& S = opt_.correspondence == Correspondence::bond_associated
+                          ? body_->bond_stencils()
+                          : body_->point_stencils();
   const std::size_t N = body_->size();
   std::vector<Mat3> F(N, Mat3::Zero());
   std::vector<double> wsum(N, 0.0);

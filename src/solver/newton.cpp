@@ -38,10 +38,35 @@ LinearSolver parse_linear_solver(const std::string& name) {
   if (name == "lu" || name == "sparse_lu") return LinearSolver::sparse_lu;
   if (name == "bicgstab" || name == "iterative") return LinearSolver::bicgstab;
   if (name == "gmres") return LinearSolver::gmres;
+  if (name == "mumps") return LinearSolver::mumps;
+  if (name == "gamg") return LinearSolver::gamg;
+  if (name == "hypre") return LinearSolver::hypre;
   throw InputError("unknown linear solver")
       .key("solver.linear")
       .value(name)
-      .expected("one of cholmod, umfpack, lu, bicgstab, gmres");
+      .expected("one of cholmod, umfpack, lu, bicgstab, gmres, mumps, gamg, hypre");
+}
+
+const char* to_string(LinearSolver s) {
+  switch (s) {
+    case LinearSolver::cholmod:
+      return "cholmod";
+    case LinearSolver::umfpack:
+      return "umfpack";
+    case LinearSolver::sparse_lu:
+      return "lu";
+    case LinearSolver::bicgstab:
+      return "bicgstab";
+    case LinearSolver::gmres:
+      return "gmres";
+    case LinearSolver::mumps:
+      return "mumps";
+    case LinearSolver::gamg:
+      return "gamg";
+    case LinearSolver::hypre:
+      return "hypre";
+  }
+  return "?";
 }
 
 struct StaticSolver::Solvers {
@@ -62,6 +87,14 @@ struct StaticSolver::Solvers {
 };
 
 namespace {
+// Distributed: a J ≤ 0 on any process is one on all (every process takes the same branch).
+bool distributed_ok(Distribution& dist, bool ok) {
+  Eigen::VectorXd flag(1);
+  flag[0] = ok ? 0.0 : 1.0;
+  dist.sum_scalars(flag);
+  return flag[0] == 0.0;
+}
+
 // The sparse direct factorisations spend their time in many small dense BLAS calls
 // (supernodes / frontal matrices). A threaded BLAS (OpenBLAS built with OpenMP) then
 // meets an OpenMP barrier per call; on a loaded or oversubscribed machine a barrier
@@ -100,6 +133,23 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
         .value("true")
         .expected("linear: gmres with matrix_free: true")
         .fix("set solver.linear: gmres, or drop matrix_free");
+  if (is_petsc_solver(opt_.linear) != static_cast<bool>(opt_.distribution))
+    throw InputError(opt_.distribution
+                         ? "a distributed run (several MPI processes) solves with PETSc"
+                         : "this linear solver is PETSc's")
+        .key("solver.linear")
+        .value(to_string(opt_.linear))
+        .expected(opt_.distribution ? "mumps, gamg or hypre"
+                                    : "cholmod, umfpack, lu, bicgstab or gmres")
+        .fix(opt_.distribution ? "set solver.linear: mumps (direct), gamg or hypre"
+                               : "PETSc's solvers run through `pdcg run` of a build with PETSc "
+                                 "(PDCG_ENABLE_PETSC, docs/scale-out.md); otherwise set "
+                                 "solver.linear: umfpack");
+  if (opt_.distribution && (opt_.matrix_free || opt_.check_stability))
+    throw InputError("not implemented on PETSc (docs/scale-out.md)")
+        .key(opt_.matrix_free ? "solver.matrix_free" : "solver.check_stability")
+        .value("true")
+        .fix("drop it, or run on one process with solver.linear: umfpack or gmres");
   if (opt_.linear == LinearSolver::cholmod && !model.symmetric()) {
     log::info("weak-form tangent is unsymmetric: using UMFPACK instead of CHOLMOD");
     opt_.linear = LinearSolver::umfpack;
@@ -203,6 +253,11 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
                          : model.internal_force_and_tangent(u_, f, K_)))
     throw NumericalError("the reference configuration is inadmissible for the material");
   solvers_ = std::make_shared<Solvers>();
+  if (opt_.distribution) {
+    if (!grip_dof_.empty()) apply_grip_rows(K_);
+    opt_.distribution->setup(free_index_, K_);
+    return;
+  }
   solvers_->gmres = Gmres(opt_.gmres_restart);
   // The Krylov path multiplies by the free rows of K_ directly: no reduced copy (its
   // memory is what large 3D runs cannot afford).
@@ -272,10 +327,15 @@ void StaticSolver::reduced_residual(const Eigen::VectorXd& u, const Eigen::Vecto
 void StaticSolver::apply_grip_rows(SparseRow& K) const {
   double* vals = K.valuePtr();
   const int* inner = K.innerIndexPtr();
+  const bool partial = static_cast<bool>(opt_.distribution);
   for (std::size_t g = 0; g < grip_dof_.size(); ++g) {
     const int row = grip_dof_[g];
     const auto b = K.outerIndexPtr()[row], e = K.outerIndexPtr()[row + 1];
     std::fill(vals + b, vals + e, 0.0);
+    // Distributed: the partial tangents are summed, so the constraint row is written by the
+    // process whose stencils include the point's own (the point family's columns), the
+    // others leave their partial row at zero.
+    if (partial && !owns_row(K, row)) continue;
     grip_row(g, [&](int col, double c) {
       const int* at = std::lower_bound(inner + b, inner + e, col);
       if (at == inner + e || *at != col)
@@ -283,6 +343,10 @@ void StaticSolver::apply_grip_rows(SparseRow& K) const {
       vals[at - inner] += c;
     });
   }
+}
+
+bool StaticSolver::owns_row(const SparseRow&, int row) const {
+  return opt_.distribution->owns_point(row / model_->dimension());
 }
 
 void StaticSolver::apply_grip_product(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
@@ -357,9 +421,12 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
   const bool mf = opt_.matrix_free;
   auto& S = *solvers_;
   // matrix-free: f and the per-stencil tangents (the operator); else f and the assembled K
+  Distribution* dist = opt_.distribution.get();
   const auto evaluate = [&] {
-    return mf ? model_->internal_force_and_operator(u, f)
-              : model_->internal_force_and_tangent(u, f, K_);
+    const bool ok = mf ? model_->internal_force_and_operator(u, f)
+                       : model_->internal_force_and_tangent(u, f, K_);
+    if (dist) return distributed_ok(*dist, ok) && (dist->sum(f), true);
+    return ok;
   };
   for (int it = 0; it < opt_.max_iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -393,6 +460,18 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
       ++rep.operator_products;
       for (int i = 0; i < nf; ++i) rhs[i] -= S.yfull[free_dofs_[i]];
+    } else if (du_c.squaredNorm() > 0 && dist) {
+      // this process's partial rows of K Δu_c, summed over the processes
+      Eigen::VectorXd kdu = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+      for (int r = 0; r < K_.outerSize(); ++r) {
+        if (free_index_[r] < 0) continue;
+        double s = 0;
+        for (auto q = K_.outerIndexPtr()[r]; q < K_.outerIndexPtr()[r + 1]; ++q)
+          s += K_.valuePtr()[q] * du_c[K_.innerIndexPtr()[q]];
+        kdu[r] = s;
+      }
+      dist->sum(kdu);
+      for (int i = 0; i < nf; ++i) rhs[i] -= kdu[free_dofs_[i]];
     } else if (du_c.squaredNorm() > 0) {
       for (int r = 0; r < K_.outerSize(); ++r) {
         const int fr = free_index_[r];
@@ -417,7 +496,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       return true;
     }
     // Linear solve.
-    if (opt_.linear != LinearSolver::gmres) {
+    if (!dist && opt_.linear != LinearSolver::gmres) {
       double* kv = S.Kff.valuePtr();
       const double* fv = K_.valuePtr();
       const auto nnz = static_cast<std::int64_t>(red_map_.size());
@@ -548,6 +627,12 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
         ok = true;
         break;
       }
+      case LinearSolver::mumps:  // PETSc (docs/scale-out.md): assembly of the processes'
+      case LinearSolver::gamg:   // partial tangents into one distributed matrix, KSP solve
+      case LinearSolver::hypre:
+        ok = dist->solve(K_, rhs, dx, rep);
+        mark();
+        break;
     }
     S.analysed = true;
     const auto t2 = std::chrono::steady_clock::now();
@@ -579,7 +664,12 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       u = u0 + du_c;
       for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += alpha * dx[i];
       if (!opt_.line_search) break;
-      if (model_->internal_force(u, ftrial)) {
+      bool admissible = model_->internal_force(u, ftrial);
+      if (dist) {
+        admissible = distributed_ok(*dist, admissible);
+        if (admissible) dist->sum(ftrial);
+      }
+      if (admissible) {
         reduced_residual(u, ftrial, fext, t_target, Rtrial);
         const double r2 = Rtrial.squaredNorm();
         const double sc = std::max({ftrial.norm(), fext.norm(), 1e-300});
@@ -627,6 +717,8 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
         Eigen::VectorXd ftmp;
         if (opt_.matrix_free)
           why = "the tangent's inertia was not evaluated (matrix-free: K is not assembled)";
+        else if (opt_.distribution)
+          why = "the tangent's inertia was not evaluated (not implemented on PETSc)";
         else if (model_->internal_force_and_tangent(u_, ftmp, K_)) {
           const int neg = tangent_inertia();
           why = neg == 0 ? fmt::format(
@@ -721,6 +813,8 @@ bool StaticSolver::reequilibrate(StepReport& rep) {
 }
 
 bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
+  if (opt_.distribution)
+    throw Error("internal error: adaptive dynamic relaxation is not implemented on PETSc");
   const std::size_t n = model_->dofs();
   const int nf = static_cast<int>(free_dofs_.size());
   Eigen::VectorXd fext, f, u = u_;
@@ -845,6 +939,10 @@ void StaticSolver::restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, d
 }
 
 void StaticSolver::prepare_restart() {
+  if (opt_.distribution)
+    throw InputError("restart is not implemented on PETSc (docs/scale-out.md)")
+        .key("--restart")
+        .fix("rerun from the start, or restart a run made on one process");
   auto& S = *solvers_;
   if (S.analysed || opt_.linear == LinearSolver::bicgstab || opt_.linear == LinearSolver::gmres)
     return;

@@ -22,6 +22,8 @@ check version       0 'Eigen +3\.'                   version
 check version-libs  0 'HDF5 +1\.'                    version
 check version-fftw  0 'FFTW +fftw-3'                 version
 check version-ss    0 'SuiteSparse +[0-9]'           version
+check version-petsc 0 'PETSc +([0-9]+\.[0-9]+|not enabled)' version
+check version-mpi   0 'MPI +[A-Za-z]|PETSc +not enabled' version
 check version-help  0 'Example:'                     version --help
 check info-help     0 'pdcg info body.h5'            info --help
 check unknown       2 "unknown command 'frobnicate'.*Valid commands:" frobnicate

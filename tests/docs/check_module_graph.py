@@ -76,7 +76,7 @@ def read_doc(text, modules, options):
         raise DocError("docs/architecture.md: no <!-- module-graph:begin --> … "
                        "<!-- module-graph:end --> block")
     block = m.group(1)
-    errors, table = [], {}
+    errors, table, absent = [], {}, set()
     for line in block.splitlines():
         if not line.startswith("|") or line.startswith("|---") or "PUBLIC links" in line:
             continue
@@ -85,6 +85,13 @@ def read_doc(text, modules, options):
             errors.append(f"table row with {len(cells)} cells: {line}")
             continue
         name = strip_md(cells[0])
+        # an optional module: "`pdcg::x` (with OPTION)", in the table only where OPTION is on
+        cond_row = re.fullmatch(r"(.+?)\s*\(with ([A-Z_]+)\)", name)
+        if cond_row:
+            name = cond_row.group(1)
+            if not options.get(cond_row.group(2), False):
+                absent.add(name.split("::")[-1])
+                continue
         name = re.sub(r"\s*\((interface)\)$", "", name)
         name = re.sub(r"\s*\(executable.*\)$", " (executable)", name)
         cols = []
@@ -96,15 +103,17 @@ def read_doc(text, modules, options):
                     if options.get(cond.group(2), False):
                         items.add(cond.group(1))
                     continue
-                if it == "every module above":
-                    items |= {f"pdcg::{x}" for x in modules}
+                but = re.fullmatch(r"every module above(?: but (.+))?", it)
+                if but:
+                    items |= {f"pdcg::{x}" for x in modules} - {strip_md(but.group(1) or "")}
                     continue
                 items.add(it)
             cols.append(items)
         table[name] = {"public": cols[0], "private": cols[1]}
     edges = set()
     for a, arrow, b in re.findall(r"^\s*([a-z_]+)\s*(-->|-\.->)\s*([a-z_]+)\s*$", block, re.M):
-        edges.add((a, b, "public" if arrow == "-->" else "private"))
+        if a not in absent and b not in absent:  # edges of optional modules not built
+            edges.add((a, b, "public" if arrow == "-->" else "private"))
     header_only = set(re.findall(r"^- `([a-z_]+)` → `([a-z_]+)`", block, re.M))
     holds = set()
     rest = text[m.end():]
@@ -112,7 +121,9 @@ def read_doc(text, modules, options):
     if h:
         for line in h.group(0).splitlines()[2:]:
             if line.startswith("|"):
-                holds.add(line.strip("|").split("|")[0].strip())
+                name = line.strip("|").split("|")[0].strip()
+                if name not in absent:
+                    holds.add(name)
     return table, edges, header_only, holds, errors
 
 

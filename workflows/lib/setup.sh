@@ -19,6 +19,7 @@ PDCG_PACKAGES=(
   liblammps-dev lammps lammps-data python3-lammps
   python3 python3-numpy python3-h5py python3-matplotlib
   python3-dev pybind11-dev python3-pytest python3-ase python3-yaml  # the Python module (docs/python.md)
+  petsc-dev libopenmpi-dev openmpi-bin  # distributed runs, mpirun -n N pdcg run (docs/scale-out.md)
 )
 # Extra packages of the sanitizer and fuzzing checks (tests/sanitize.sh, tests/fuzz/run.sh):
 # clang, libFuzzer, the sanitizer runtimes, clang's OpenMP, llvm-symbolizer (file:line in the

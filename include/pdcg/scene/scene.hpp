@@ -169,6 +169,13 @@ struct Scene {
 struct RunOptions {
   std::optional<std::filesystem::path> output;   ///< replaces output.directory
   std::optional<std::filesystem::path> restart;  ///< continue from the last checkpoint there
+  /// Distributed quasi-static run (pdcg::parallel, docs/scale-out.md): called once with the
+  /// model and the PETSc solver; partitions the points, restricts the model's evaluation to
+  /// this process's stencils and returns the StaticSolver's Distribution. Empty: serial.
+  std::function<std::shared_ptr<solver::Distribution>(solver::Model&, solver::LinearSolver)>
+      distribute = {};
+  int processes = 1;  ///< MPI processes of the run
+  int rank = 0;       ///< this process (only rank 0 writes the outputs)
 };
 
 /// Effects a scene may list, and those this build runs: the registered ones (effect.hpp).

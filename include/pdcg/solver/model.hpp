@@ -69,7 +69,8 @@ class Model {
   /// True when the tangent is symmetric (energy boundary form).
   bool symmetric() const { return opt_.boundary == BoundaryForm::energy; }
 
-  /// Π(u) (energy part only). NaN if some F_S is inadmissible.
+  /// Π(u) (energy part only; after restrict_evaluation this process's stencils only). NaN if
+  /// some F_S is inadmissible.
   double energy(const Eigen::VectorXd& u) const;
   /// Internal force f(u). Returns false if some F is inadmissible.
   bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) const;
@@ -101,7 +102,8 @@ class Model {
 
   /// Point deformation gradients: weighted mean of the energy stencils centred
   /// at each point (BA: Σ_j φ̂_ij V_j F_ij; classical: F_i). 3×3 with the
-  /// in-plane block filled (2D: F₃₃ = 1).
+  /// in-plane block filled (2D: F₃₃ = 1). Always over every stencil (restrict_evaluation
+  /// does not apply: u is complete on every process).
   std::vector<Mat3> point_deformation_gradients(const Eigen::VectorXd& u) const;
   /// PDDO gradient on the point family, F̄_k (used by the weak form).
   std::vector<Mat3> point_family_gradients(const Eigen::VectorXd& u) const;
@@ -134,6 +136,28 @@ class Model {
   /// any other point. Empty (and not looked at per bond) without rupture.
   void set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness);
   const std::vector<int>& anchors() const { return anchor_points_; }
+
+  /// Distributed evaluation (docs/scale-out.md): restricts every later evaluation to the
+  /// energy stencils centred at the points with owned[k] != 0 and to the weak-form rows of
+  /// those points. internal_force / internal_force_and_tangent then return this process's
+  /// partial sums (f and K over all d·N dofs, nonzero only where its stencils and rows
+  /// reach); the sum over the processes of a partition is the unrestricted result (up to
+  /// summation order). The evaluation then reads u only at the members of the owned stencils
+  /// and at the point families of the weak points whose stresses the owned weak rows read (the
+  /// ghost points of docs/scale-out.md §2). The owned stencils are copied into a contiguous set, so
+  /// the kernels run unchanged (no mask in the hot loops). Empty: every stencil and row (the
+  /// default). Not for rupture (broken stencils are not followed) nor for the matrix-free operator.
+  void restrict_evaluation(const std::vector<char>& owned);
+  bool restricted() const { return energy_ == &owned_stencils_; }
+  /// The energy stencils evaluated (all, or this process's after restrict_evaluation).
+  const Stencils& evaluated_stencils() const { return *energy_; }
+  /// Point adjacency of the tangent's pattern (CSR over points, sorted): the points n with
+  /// K_(k,n) in the pattern (sharing an energy stencil or a weak-form correction with k).
+  /// Of the evaluated stencils and rows (restrict_evaluation).
+  const Csr& point_adjacency() const {
+    build_index();
+    return adjacency_;
+  }
   const std::vector<double>& anchor_targets() const { return anchor_u_; }
 
  private:
@@ -163,7 +187,10 @@ class Model {
   std::unique_ptr<Material> material_;
   ModelOptions opt_;
   int d_;
-  const Stencils* energy_;  // bond or point stencils
+  const Stencils* energy_;            // bond or point stencils (or owned_stencils_)
+  Stencils owned_stencils_;           // restrict_evaluation: this process's energy stencils
+  std::vector<char> weak_row_owned_;  // per weak row (empty: all rows evaluated)
+  std::vector<char> weak_needed_;     // per weak point: its stress P(F̄) is read (empty: all)
   // Reverse index: for each point, the (stencil, member position) pairs holding it (built
   // lazily by build_index(): 8 bytes per stencil member, ≈ 59 kB per 3D point).
   mutable bool indexed_ = false;

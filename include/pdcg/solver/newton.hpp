@@ -30,8 +30,46 @@
 
 namespace pdcg::solver {
 
-enum class LinearSolver { cholmod, umfpack, sparse_lu, bicgstab, gmres };
+/// mumps, gamg, hypre: PETSc's KSP (MUMPS LU; CG/GMRES with smoothed-aggregation AMG and the
+/// rigid-body near-null space; GMRES with hypre BoomerAMG), on one or several MPI processes
+/// through a Distribution (pdcg::parallel, docs/scale-out.md).
+enum class LinearSolver { cholmod, umfpack, sparse_lu, bicgstab, gmres, mumps, gamg, hypre };
 LinearSolver parse_linear_solver(const std::string& name);  // throws InputError
+/// True for the solvers of PETSc (they need a Distribution).
+inline bool is_petsc_solver(LinearSolver s) {
+  return s == LinearSolver::mumps || s == LinearSolver::gamg || s == LinearSolver::hypre;
+}
+const char* to_string(LinearSolver s);
+
+struct StepReport;
+
+/// The hooks by which StaticSolver runs its Newton iteration on several processes
+/// (docs/scale-out.md). pdcg::parallel implements them on PETSc and MPI; this library has no
+/// MPI dependency. Every process runs the same Newton logic on replicated vectors (u, f, the
+/// reduced residual, the increment: the same values on every process, so every decision is
+/// the same); the Model evaluates only this process's stencils (Model::restrict_evaluation),
+/// sum() adds the partial forces, and solve() assembles the partial tangents into one
+/// distributed matrix and solves with it.
+class Distribution {
+ public:
+  virtual ~Distribution() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// True if this process owns point k (evaluates the stencils centred at k and its row).
+  virtual bool owns_point(int k) const = 0;
+  /// v (length d·N, this process's partial sums) ← the sum over all processes; bitwise the
+  /// same on every process.
+  virtual void sum(Eigen::VectorXd& v) = 0;
+  /// A few scalars summed over the processes (MPI_Allreduce).
+  virtual void sum_scalars(Eigen::VectorXd& v) = 0;
+  /// Called once by StaticSolver with its free-dof numbering (dof → free index or −1) and the
+  /// tangent at u = 0 (this process's partial K, grip rows applied).
+  virtual void setup(const std::vector<int>& free_index, const SparseRow& K) = 0;
+  /// dx = K_ff⁻¹ rhs with K_ff the free block of the sum of the processes' partial tangents K;
+  /// rhs and dx are the reduced (free) vectors, replicated. False if the solve failed.
+  virtual bool solve(const SparseRow& K, const Eigen::VectorXd& rhs, Eigen::VectorXd& dx,
+                     StepReport& rep) = 0;
+};
 
 /// Prescribed displacement on a point set: component c (0..d−1) gets value(t)
 /// for each component that has a function.
@@ -81,6 +119,8 @@ struct NewtonOptions {
   /// tangents packed by major symmetry (docs/solver.md §4, "Matrix-free GMRES"). K is then
   /// assembled only on request (check_stability; relax).
   bool matrix_free = false;
+  /// Several processes (or PETSc's solvers on one): see Distribution. Empty: the serial run.
+  std::shared_ptr<Distribution> distribution = {};
 };
 
 struct StepReport {
@@ -174,6 +214,8 @@ class StaticSolver {
                         const Eigen::VectorXd& fext, double t, Eigen::VectorXd& R) const;
   /// Replaces the grip rows of K by C (their columns are in the pattern: the point family).
   void apply_grip_rows(SparseRow& K) const;
+  /// Distributed: this process writes row (a dof) of the summed tangent's constraint rows.
+  bool owns_row(const SparseRow& K, int row) const;
   /// The grip rows of a product: out_i = (C x)_i (matrix-free GMRES).
   void apply_grip_product(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
 

@@ -449,3 +449,93 @@ TEST(Model, FreeBodyZeroModes3D) {
   std::printf("3D free body 5x5x5: soft modes (<1e-3 max) BA %d, classical %d\n", ba.soft, cl.soft);
   EXPECT_EQ(zero_singular_values(D, mat), 6);
 }
+
+// Distributed evaluation (docs/scale-out.md): the points split into parts, each part's model
+// evaluates the energy stencils centred at its points and the weak-form rows of its points
+// (Model::restrict_evaluation); the parts' partial forces and tangents sum to the unrestricted
+// ones. Reference: the unrestricted Model (the serial solver's, checked against finite
+// differences above); tolerance 1e-13 of max |f|, max |K|: only the summation order differs.
+TEST(Model, RestrictedEvaluationsSumToTheFullOne) {
+  for (const auto corr : {Correspondence::bond_associated, Correspondence::classical})
+    for (const int dim : {2, 3}) {
+      GridSpec g;
+      g.dimension = dim;
+      g.size = Vec3(1.0, 1.0, dim == 3 ? 0.5 : 1.0);
+      g.spacing = dim == 2 ? 0.1 : 0.25;
+      if (dim == 2) g.holes.push_back({Vec3(0.5, 0.5, 0), 0.2});  // weak rows on the hole too
+      const auto D = Discretization::grid(g);
+      const auto mat =
+          make_neo_hookean({1.0, 10.0}, dim == 3 ? Kinematics::three_d : Kinematics::plane_strain);
+      const ModelOptions opt{corr, BoundaryForm::weak};
+      Model full(D, *mat, opt);
+      ASSERT_FALSE(full.weak_points().empty());
+      std::mt19937 rng(7);
+      std::uniform_real_distribution<double> U(-0.02, 0.02);
+      Eigen::VectorXd u = affine(D, Mat3::Identity() * 0.05, Vec3::Zero());
+      for (Eigen::Index i = 0; i < u.size(); ++i) u[i] += U(rng);
+      Eigen::VectorXd f_full, f;
+      SparseRow K_full, K;
+      ASSERT_TRUE(full.internal_force_and_tangent(u, f_full, K_full));
+      const Eigen::MatrixXd Kd_full(K_full);
+      // three parts: slabs in x (any split works; the parts must cover every point once)
+      Eigen::VectorXd f_sum = Eigen::VectorXd::Zero(f_full.size()), f_res_sum = f_sum;
+      Eigen::MatrixXd K_sum = Eigen::MatrixXd::Zero(Kd_full.rows(), Kd_full.cols());
+      for (int part = 0; part < 3; ++part) {
+        std::vector<char> owned(D.size());
+        for (std::size_t k = 0; k < D.size(); ++k)
+          owned[k] = static_cast<int>(3 * D.positions()[k].x()) == part;
+        Model m(D, *mat, opt);
+        m.restrict_evaluation(owned);
+        ASSERT_TRUE(m.restricted());
+        ASSERT_TRUE(m.internal_force_and_tangent(u, f, K));
+        f_sum += f;
+        K_sum += Eigen::MatrixXd(K);
+        ASSERT_TRUE(m.internal_force(u, f));
+        f_res_sum += f;
+        // The evaluation reads u only at this part's points and its ghosts: the members of its
+        // stencils and the point families of the weak points whose stresses its weak rows
+        // read. u made NaN everywhere else gives the same partial force and tangent, bitwise.
+        {
+          std::vector<char> read(D.size(), 0);
+          for (int mbr : m.evaluated_stencils().index) read[static_cast<std::size_t>(mbr)] = 1;
+          const auto& weak = m.weak_points();
+          const Stencils& P = D.point_stencils();
+          for (std::size_t w = 0; w < weak.size(); ++w)
+            if (owned[static_cast<std::size_t>(weak[w])])
+              for (auto c = m.flux().begin(w); c < m.flux().end(w); ++c) {
+                const auto l = static_cast<std::size_t>(
+                    weak[static_cast<std::size_t>(m.flux().index[static_cast<std::size_t>(c)])]);
+                for (auto r = P.offsets[l]; r < P.offsets[l + 1]; ++r)
+                  read[static_cast<std::size_t>(P.index[static_cast<std::size_t>(r)])] = 1;
+              }
+          Eigen::VectorXd u_ghost = u, f_ghost, f_part;
+          SparseRow K_ghost;
+          for (std::size_t k = 0; k < D.size(); ++k)
+            if (!read[k] && !owned[k])
+              for (int a = 0; a < dim; ++a) u_ghost[dim * k + a] = std::nan("");
+          ASSERT_TRUE(m.internal_force(u, f_part));
+          ASSERT_TRUE(m.internal_force(u_ghost, f_ghost));
+          EXPECT_TRUE(f_ghost.cwiseEqual(f_part).all()) << "part " << part << ", " << dim << "D";
+          ASSERT_TRUE(m.internal_force_and_tangent(u_ghost, f_ghost, K_ghost));
+          EXPECT_TRUE(Eigen::MatrixXd(K_ghost).cwiseEqual(Eigen::MatrixXd(K)).all());
+        }
+        // the rows this part touches are the members of its stencils and its weak rows
+        for (std::size_t k = 0; k < D.size(); ++k)
+          if (K.outerIndexPtr()[dim * k + 1] == K.outerIndexPtr()[dim * k])
+            for (int a = 0; a < dim; ++a) EXPECT_EQ(f[dim * k + a], 0.0);
+      }
+      const double fs = f_full.cwiseAbs().maxCoeff(), ks = Kd_full.cwiseAbs().maxCoeff();
+      EXPECT_LE((f_sum - f_full).cwiseAbs().maxCoeff(), 1e-13 * fs) << dim;
+      EXPECT_LE((f_res_sum - f_full).cwiseAbs().maxCoeff(), 1e-13 * fs) << dim;
+      EXPECT_LE((K_sum - Kd_full).cwiseAbs().maxCoeff(), 1e-13 * ks) << dim;
+      // and back: an empty mask restores the full evaluation, bitwise
+      Model m(D, *mat, opt);
+      m.restrict_evaluation(std::vector<char>(D.size(), 0));
+      m.restrict_evaluation({});
+      EXPECT_FALSE(m.restricted());
+      Eigen::VectorXd f_ref;
+      ASSERT_TRUE(full.internal_force(u, f_ref));
+      ASSERT_TRUE(m.internal_force(u, f));
+      EXPECT_EQ((f - f_ref).cwiseAbs().maxCoeff(), 0.0);
+    }
+}
