@@ -141,8 +141,7 @@ Rupture::Rupture(Discretization& body, Model& model, RuptureOptions options)
       for (std::size_t i = 0; i < body.size(); ++i)
         model.material().evaluate_at(static_cast<int>(i), Mat3::Identity(), &psi_ref_[i], nullptr,
                                      nullptr);
-      // allocate the stiffness factors now (all 1: the weights do not change), so that the
-      // parallel damage update only writes
+      // allocate the stiffness factors now (all 1: no weight or lens changes)
       if (nb > 0) body.set_bond_stiffness_factor(0, 1.0);
     }
   }
@@ -169,6 +168,9 @@ void Rupture::restore_work(std::vector<double> work, std::vector<double> last_ps
             .expected("the damage d of the softening law, 0 ≤ d < 1");
       body_->set_bond_stiffness_factor(static_cast<std::int64_t>(q), 1.0 - d);
     }
+  // the lenses of the damaged pairs' ends take their shares (a pure function of the damage
+  // and the broken set, like restore's rebuild)
+  if (softening()) body_->rebuild_broken(opt_.min_reciprocal_condition);
 }
 
 bool Rupture::break_pair(int i, std::int64_t q) {
