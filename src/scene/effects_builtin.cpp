@@ -221,6 +221,13 @@ class RuptureEffect final : public Effect {
          "a critical energy release rate G_c > 0 (energy per unit crack area)"},
         {"rupture.surface_energy", K::real, 0, true, inf, true,
          "a surface energy γ > 0 (energy per unit area; G_c = 2γ)"},
+        {"rupture.elastic_limit", K::real, 0, true, 1, false,
+         "e₀/e_f in (0, 1]: the equivalent strain at which softening starts over the one at "
+         "full separation"},
+        {"rupture.damage_tolerance", K::real, 0, true, 1, true,
+         "a damage increment in (0, 1), e.g. 1e-3"},
+        {"rupture.max_damage_increment", K::real, 0, true, 1, false,
+         "a damage increment per pass in (0, 1]"},
         {"rupture.max_passes", K::integer, 1, false, inf, true, "an integer ≥ 1"},
         {"rupture.check_every", K::integer, 1, false, inf, true, "an integer ≥ 1 (time steps)"}};
   }
@@ -235,7 +242,8 @@ class RuptureEffect final : public Effect {
         throw c.err(root["effects"], "rupture", "rupture is listed but has no settings")
             .expected("rupture: {criterion: bond_stretch, critical: 2.5}");
       c.keys(r, "rupture",
-             {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy"});
+             {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy",
+              "softening", "elastic_limit", "damage_tolerance", "max_damage_increment"});
       if (r["criterion"])
         s.rupture_options.criterion = solver::parse_rupture_criterion(
             c.choice(r["criterion"], "rupture.criterion",
@@ -266,12 +274,34 @@ class RuptureEffect final : public Effect {
             r["G_c"] ? c.number(r["G_c"], "rupture.G_c")
                      : 2.0 * c.number(r["surface_energy"], "rupture.surface_energy");
         s.rupture_options.critical = 1.0;
+        // the softening (cohesive) failure law (docs/fracture.md §6)
+        if (r["softening"])
+          s.rupture_options.softening = solver::parse_rupture_softening(
+              c.choice(r["softening"], "rupture.softening", {"none", "linear"}));
+        const bool soft = s.rupture_options.softening != solver::RuptureSoftening::none;
+        for (const char* k : {"elastic_limit", "damage_tolerance", "max_damage_increment"})
+          if (r[k] && !soft)
+            throw c
+                .err(r[k], std::string("rupture.") + k,
+                     std::string(k) + " is a parameter of the softening failure law")
+                .fix("add softening: linear, or remove " + std::string(k));
+        if (r["elastic_limit"])
+          s.rupture_options.elastic_limit = c.number(r["elastic_limit"], "rupture.elastic_limit");
+        if (r["damage_tolerance"])
+          s.rupture_options.damage_tolerance =
+              c.number(r["damage_tolerance"], "rupture.damage_tolerance");
+        if (r["max_damage_increment"])
+          s.rupture_options.max_damage_increment =
+              c.number(r["max_damage_increment"], "rupture.max_damage_increment");
       } else {
-        for (const char* k : {"G_c", "surface_energy"})
+        for (const char* k : {"G_c", "surface_energy", "softening", "elastic_limit",
+                              "damage_tolerance", "max_damage_increment"})
           if (r[k])
             throw c
                 .err(r[k], std::string("rupture.") + k,
-                     "G_c / surface_energy calibrate the fracture_energy criterion only")
+                     std::string(k) +
+                         " belongs to the fracture_energy criterion only (G_c, γ calibrate it; "
+                         "softening is its failure law)")
                 .fix("set criterion: fracture_energy, or remove " + std::string(k));
         if (!r["critical"])
           throw c.err(r, "rupture.critical", "missing key")
@@ -330,10 +360,17 @@ class RuptureEffect final : public Effect {
     if (s.rupture) {
       y << YAML::Key << "rupture" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
         << "criterion" << YAML::Value << solver::to_string(s.rupture_options.criterion);
-      if (s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy)
+      if (s.rupture_options.criterion == solver::RuptureCriterion::fracture_energy) {
         y << YAML::Key << "G_c" << YAML::Value << s.rupture_options.fracture_energy;
-      else
+        if (s.rupture_options.softening != solver::RuptureSoftening::none)
+          y << YAML::Key << "softening" << YAML::Value
+            << solver::to_string(s.rupture_options.softening) << YAML::Key << "elastic_limit"
+            << YAML::Value << s.rupture_options.elastic_limit << YAML::Key << "damage_tolerance"
+            << YAML::Value << s.rupture_options.damage_tolerance << YAML::Key
+            << "max_damage_increment" << YAML::Value << s.rupture_options.max_damage_increment;
+      } else {
         y << YAML::Key << "critical" << YAML::Value << s.rupture_options.critical;
+      }
       if (s.inertia)
         y << YAML::Key << "check_every" << YAML::Value << s.rupture_options.check_every;
       else

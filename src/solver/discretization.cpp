@@ -43,7 +43,7 @@ using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
 // Returns the reciprocal condition number of the scaled moment matrix.
 double pddo_stencil(int dim, const std::vector<Vec3>& x, const std::vector<double>& vol, int center,
                     const int* members, std::size_t n, double delta, const InfluenceFunction& w,
-                    double* grad) {
+                    double* grad, const double* factor = nullptr) {
   const int np = dim + 1;
   SmallMat A = SmallMat::Zero(np, np);
   SmallVec p(np);
@@ -51,7 +51,8 @@ double pddo_stencil(int dim, const std::vector<Vec3>& x, const std::vector<doubl
     const Vec3 xi = (x[members[k]] - x[center]) / delta;
     p(0) = 1.0;
     for (int a = 0; a < dim; ++a) p(a + 1) = xi(a);
-    A.noalias() += (w(xi.norm() * delta, delta) * vol[members[k]]) * p * p.transpose();
+    const double f = factor ? factor[k] : 1.0;  // a member's share (softening: damage)
+    A.noalias() += (w(xi.norm() * delta, delta) * vol[members[k]] * f) * p * p.transpose();
   }
   Eigen::SelfAdjointEigenSolver<SmallMat> es(A, Eigen::EigenvaluesOnly);
   const double rc = es.eigenvalues()(0) / es.eigenvalues()(np - 1);
@@ -62,7 +63,8 @@ double pddo_stencil(int dim, const std::vector<Vec3>& x, const std::vector<doubl
     p(0) = 1.0;
     for (int a = 0; a < dim; ++a) p(a + 1) = xi(a);
     const SmallVec c = ldlt.solve(p);
-    const double s = w(xi.norm() * delta, delta) * vol[members[k]] / delta;
+    const double s =
+        w(xi.norm() * delta, delta) * vol[members[k]] * (factor ? factor[k] : 1.0) / delta;
     for (int a = 0; a < dim; ++a) grad[k * dim + a] = s * c(a + 1);
   }
   return rc;
@@ -578,15 +580,19 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
   centres.clear();
   for (std::size_t i = 0; i < N; ++i)
     if (mark[i]) centres.push_back(static_cast<int>(i));
-  auto intact = [&](int a, int b) {
+  // A member's share of a rebuilt stencil: 0 if its bond is broken, else the bond's stiffness
+  // factor (1 − d of a softening law; 1 without one), so that a lens loses a member
+  // continuously as the bond to it softens, and at d = 1 exactly as at a break.
+  auto keep = [&](int a, int b) {
     const std::int64_t q = bond_index(a, b);
-    return q >= 0 && !broken_[q];
+    if (q < 0 || broken_[q]) return 0.0;
+    return bond_factor_.empty() ? 1.0 : bond_factor_[q];
   };
   std::size_t rebuilt = 0;
 #pragma omp parallel reduction(+ : rebuilt)
   {
     std::vector<int> act;
-    std::vector<double> g;
+    std::vector<double> g, share;
     std::vector<char> on;
 #pragma omp for schedule(dynamic, 8)
     for (std::size_t c = 0; c < centres.size(); ++c) {
@@ -595,17 +601,20 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
       {
         const auto b = point_.offsets[i], e = point_.offsets[i + 1];
         act.clear();
+        share.clear();
         on.assign(e - b, 0);
         for (auto r = b; r < e; ++r) {
           const int m = point_.index[r];
-          if (m == i || intact(i, m)) {
+          const double f = m == i ? 1.0 : keep(i, m);
+          if (f > 0) {
             act.push_back(m);
+            share.push_back(f);
             on[r - b] = 1;
           }
         }
         g.assign(act.size() * d, 0.0);
-        const double rc =
-            pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
+        const double rc = pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_,
+                                       opt_.influence, g.data(), share.data());
         const bool ok = rc >= rc_min && !point_off_[i];
         std::size_t k = 0;  // advances over the active members only
         for (auto r = b; r < e; ++r) {
@@ -618,7 +627,7 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
       // BA stencils of i: members, G, φ
       double famvol = vol_[i];
       for (auto q = families_.begin(i); q < families_.end(i); ++q)
-        if (!broken_[q]) famvol += vol_[families_.index[q]];
+        famvol += vol_[families_.index[q]] * keep(i, families_.index[q]);
       double norm = 0.0;
       for (auto q = families_.begin(i); q < families_.end(i); ++q) {
         const int j = families_.index[q];
@@ -632,19 +641,22 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
           continue;
         }
         act.clear();
+        share.clear();
         on.assign(e - b, 0);
         double v = 0.0;
         for (auto r = b; r < e; ++r) {
           const int m = bond_.index[r];
-          if (m == i || m == j || (intact(i, m) && intact(j, m))) {
+          const double f = (m == i || m == j) ? 1.0 : keep(i, m) * keep(j, m);
+          if (f > 0) {
             act.push_back(m);
+            share.push_back(f);
             on[r - b] = 1;
-            v += vol_[m];
+            v += vol_[m] * f;
           }
         }
         g.assign(act.size() * d, 0.0);
-        const double rc =
-            pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_, opt_.influence, g.data());
+        const double rc = pddo_stencil(d, x_, vol_, i, act.data(), act.size(), delta_,
+                                       opt_.influence, g.data(), share.data());
         const bool ok = rc >= rc_min;
         std::size_t k = 0;
         for (auto r = b; r < e; ++r) {
@@ -653,7 +665,8 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
         }
         if (ok) {
           phi_hat_[q] = v / famvol;
-          norm += phi_hat_[q] * vol_[j];
+          // the family partitions unity with each bond's stiffness factor (Σ φ̂V(1 − d) = 1)
+          norm += phi_hat_[q] * vol_[j] * (bond_factor_.empty() ? 1.0 : bond_factor_[q]);
         } else {
           suppressed_[q] = 1;
         }
@@ -661,12 +674,25 @@ std::size_t Discretization::rebuild_broken(double min_rc) {
       }
       for (auto q = families_.begin(i); q < families_.end(i); ++q) {
         if (norm > 0) phi_hat_[q] /= norm;
-        bond_.weight[q] = vol_[i] * phi_hat_[q] * vol_[families_.index[q]];
+        bond_.weight[q] = vol_[i] * phi_hat_[q] * vol_[families_.index[q]] *
+                          (bond_factor_.empty() ? 1.0 : bond_factor_[q]);
       }
     }
   }
   n_suppressed_ = static_cast<std::size_t>(std::count(suppressed_.begin(), suppressed_.end(), 1));
   return rebuilt;
+}
+
+void Discretization::set_bond_stiffness_factor(std::int64_t q, double factor) {
+  if (!(factor >= 0.0 && factor <= 1.0))
+    throw Error(fmt::format("internal error: bond stiffness factor {} outside [0, 1]", factor));
+  if (bond_factor_.empty()) bond_factor_.assign(bond_.size(), 1.0);
+  if (bond_factor_[q] == factor) return;
+  bond_factor_[q] = factor;
+  bond_.weight[q] = intact_bond_weight(q) * factor;
+  // the stencils holding this bond's end as a member follow at the next rebuild_broken
+  dirty_.push_back(bond_.center[q]);
+  dirty_.push_back(families_.index[q]);
 }
 
 std::vector<double> Discretization::damage() const {

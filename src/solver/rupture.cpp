@@ -23,6 +23,28 @@ RuptureCriterion parse_rupture_criterion(const std::string& name) {
       .expected("one of: bond_stretch, principal_stretch, energy_density, fracture_energy");
 }
 
+RuptureSoftening parse_rupture_softening(const std::string& name) {
+  if (name == "none") return RuptureSoftening::none;
+  if (name == "linear") return RuptureSoftening::linear;
+  throw InputError("unknown rupture softening law")
+      .key("rupture.softening")
+      .value(name)
+      .expected("one of: none, linear");
+}
+
+std::string to_string(RuptureSoftening s) {
+  return s == RuptureSoftening::linear ? "linear" : "none";
+}
+
+double linear_softening_damage(double kappa, double psi_c, double elastic_limit) {
+  // docs/fracture.md §6.1: linear softening in the equivalent strain e = √κ
+  const double e = std::sqrt(std::max(0.0, kappa)), e0 = std::sqrt(elastic_limit * psi_c),
+               ef = std::sqrt(psi_c / elastic_limit);
+  if (e <= e0) return 0.0;
+  if (e >= ef) return 1.0;
+  return 1.0 - (e0 / e) * (ef - e) / (ef - e0);
+}
+
 double fracture_energy_shape_factor(int dimension) {
   // ⟨|ξ·n|⟩/δ over an interior family weighted by φ̂(r) ∝ overlap of two δ-balls at distance r
   // (docs/fracture.md §5: 3D ∫₀¹s³f/(2∫₀¹s²f), 2D 2∫₀¹s²f/(π∫₀¹s f), f the overlap fraction).
@@ -57,6 +79,28 @@ Rupture::Rupture(Discretization& body, Model& model, RuptureOptions options)
   Mat3 P;
   model.material().evaluate(Mat3::Identity(), nullptr, &P, &A);
   anchor_stiffness_ = A.cwiseAbs().maxCoeff() * std::pow(body.spacing(), body.dimension() - 2);
+  if (opt_.softening != RuptureSoftening::none) {
+    if (opt_.criterion != RuptureCriterion::fracture_energy)
+      throw InputError("a softening failure law needs the fracture_energy criterion")
+          .key("rupture.softening")
+          .value(to_string(opt_.softening))
+          .expected("criterion: fracture_energy (its G_c calibrates the softening)");
+    if (!(opt_.elastic_limit > 0 && opt_.elastic_limit <= 1))
+      throw InputError("the elastic limit of the softening law is e₀/e_f, in (0, 1]")
+          .key("rupture.elastic_limit")
+          .value(fmt::format("{}", opt_.elastic_limit))
+          .expected("0 < elastic_limit ≤ 1, e.g. 0.1");
+    if (!(opt_.damage_tolerance > 0 && opt_.damage_tolerance < 1))
+      throw InputError("the damage tolerance of the staggered passes must be in (0, 1)")
+          .key("rupture.damage_tolerance")
+          .value(fmt::format("{}", opt_.damage_tolerance))
+          .expected("0 < damage_tolerance < 1, e.g. 1e-3");
+    if (!(opt_.max_damage_increment > 0 && opt_.max_damage_increment <= 1))
+      throw InputError("the largest damage increment per pass must be in (0, 1]")
+          .key("rupture.max_damage_increment")
+          .value(fmt::format("{}", opt_.max_damage_increment))
+          .expected("0 < max_damage_increment ≤ 1, e.g. 0.1");
+  }
   if (opt_.criterion == RuptureCriterion::fracture_energy) {
     if (!(opt_.fracture_energy > 0) || !std::isfinite(opt_.fracture_energy))
       throw InputError(
@@ -87,6 +131,19 @@ Rupture::Rupture(Discretization& body, Model& model, RuptureOptions options)
         work_c_[q] = psi_c_ * (S.weight[q] + S.weight[r]);
       }
     }
+    if (softening()) {
+      // work_ is the history κ, psi_last_ the damage d (both 0: intact, undamaged)
+      std::fill(psi_last_.begin(), psi_last_.end(), 0.0);
+      energy_last_.assign(nb, 0.0);
+      y_pair_.assign(nb, 0.0);
+      to_break_.assign(nb, 0);
+      psi_ref_.assign(body.size(), 0.0);
+      for (std::size_t i = 0; i < body.size(); ++i)
+        model.material().evaluate_at(static_cast<int>(i), Mat3::Identity(), &psi_ref_[i], nullptr,
+                                     nullptr);
+      // allocate the stiffness factors now (all 1: no weight or lens changes)
+      if (nb > 0) body.set_bond_stiffness_factor(0, 1.0);
+    }
   }
 }
 
@@ -100,12 +157,36 @@ void Rupture::restore_work(std::vector<double> work, std::vector<double> last_ps
   work_ = std::move(work);
   psi_last_ = std::move(last_psi);
   dissipated_ = dissipated;
+  if (softening())  // the damage of the intact pairs scales their weights again
+    for (std::size_t q = 0; q < psi_last_.size(); ++q) {
+      if (body_->broken(static_cast<std::int64_t>(q))) continue;
+      const double d = psi_last_[q];
+      if (!(d >= 0 && d < 1))
+        throw InputError("checkpoint: a bond damage outside [0, 1) on an intact bond")
+            .key("rupture/work_psi")
+            .value(fmt::format("{}", d))
+            .expected("the damage d of the softening law, 0 ≤ d < 1");
+      body_->set_bond_stiffness_factor(static_cast<std::int64_t>(q), 1.0 - d);
+    }
+  // the lenses of the damaged pairs' ends take their shares (a pure function of the damage
+  // and the broken set, like restore's rebuild)
+  if (softening()) body_->rebuild_broken(opt_.min_reciprocal_condition);
 }
 
 bool Rupture::break_pair(int i, std::int64_t q) {
   const int j = body_->families().index[q];
   if (!body_->break_bond(i, j)) return false;
-  if (!work_.empty()) dissipated_ += work_[q] + work_[reverse_[q]];
+  if (softening()) {
+    // the energy the damaged pair still stores at the last evaluation ((1 − d) of the
+    // undamaged one; 0 at d = 1) is released for good
+    const std::int64_t r = reverse_[q];
+    const double e = (1.0 - psi_last_[q]) * (energy_last_[q] + energy_last_[r]);
+    if (std::isfinite(e)) dissipated_ += e;
+    energy_last_[q] = energy_last_[r] = 0.0;
+    psi_last_[q] = psi_last_[r] = 1.0;
+  } else if (!work_.empty()) {
+    dissipated_ += work_[q] + work_[reverse_[q]];
+  }
   return true;
 }
 
@@ -141,6 +222,17 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
           for (int a = 0; a < d; ++a)
             for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
         }
+        if (softening()) {
+          // the undamaged energy of the direction (the pair's Y follows below)
+          double psi = 0;
+          if (mat.evaluate_at(static_cast<int>(i), F, &psi, nullptr, nullptr)) {
+            energy_last_[q] = B.intact_bond_weight(q) * (psi - psi_ref_[i]);
+            dir[q] = 0.0;
+          } else {
+            dir[q] = std::numeric_limits<double>::infinity();
+          }
+          continue;
+        }
         if (opt_.criterion == RuptureCriterion::fracture_energy) {
           // Hyperelastic: P = ∂Ψ/∂F, so ∫ φ̂ P:dF over the interval since the last check
           // (φ̂ constant in it: the weight changes only at rebuilds) is φ̂ ΔΨ on any path.
@@ -170,6 +262,33 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
       vmax = std::isnan(dir[q]) ? std::numeric_limits<double>::infinity() : std::max(vmax, dir[q]);
     }
   if (opt_.criterion != RuptureCriterion::fracture_energy) return vmax;
+  if (softening()) {
+    // The pair's energy density Y = (E_ij + E_ji) / (w_ij + w_ji) (undamaged weights; +∞ if
+    // a direction is inverted), then the criterion √max(κ, Y) / e_f.
+    const double* E = energy_last_.data();
+    const std::int64_t* rev = reverse_.data();
+    double* Y = y_pair_.data();
+    const double inf = std::numeric_limits<double>::infinity();
+#pragma omp parallel for schedule(dynamic, 32)
+    for (std::size_t i = 0; i < N; ++i)
+      for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+        if (B.broken(q)) continue;
+        const auto r = rev[q];
+        const double w = B.intact_bond_weight(q) + B.intact_bond_weight(r);
+        Y[q] = (dir[q] == inf || dir[r] == inf) ? inf : (w > 0 ? (E[q] + E[r]) / w : 0.0);
+      }
+    const double ef = std::sqrt(psi_c_ / opt_.elastic_limit);
+    const double* kappa = work_.data();
+    vmax = ninf;
+#pragma omp parallel for schedule(dynamic, 32) reduction(max : vmax)
+    for (std::size_t i = 0; i < N; ++i)
+      for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+        if (B.broken(q)) continue;
+        dir[q] = Y[q] == inf ? inf : std::sqrt(std::max(kappa[q], Y[q])) / ef;
+        vmax = std::isnan(dir[q]) ? inf : std::max(vmax, dir[q]);
+      }
+    return vmax;
+  }
   // The pair's work (both directions) against its critical work; an inverted stencil (+∞)
   // or a NaN work stays past the criterion.
   const double* W = work_.data();
@@ -205,6 +324,7 @@ std::vector<double> Rupture::criterion_values(const Eigen::VectorXd& u) const {
 }
 
 RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
+  if (softening()) return soften(u);
   RupturePass pass;
   // The pair value is the larger of its two directions, so a pair is past the criterion
   // iff one of its directed values is; the largest pair value is the largest directed one.
@@ -220,9 +340,103 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
       // NaN counts as broken (!(v <= critical)); break_bond returns false if already broken
       if (!body_->broken(q) && !(dir[q] <= opt_.critical))
         pass.broken += break_pair(static_cast<int>(i), q) ? 1 : 0;
+  finish_breaks(u, pass);
+  return pass;
+}
+
+RupturePass Rupture::soften(const Eigen::VectorXd& u) {
+  // docs/fracture.md §6: the damage update of a staggered pass (d frozen in the solves)
+  RupturePass pass;
+  pass.max_value = evaluate_directed(u);
+  const Discretization& B = *body_;
+  const Csr& fam = B.families();
+  const std::size_t N = B.size();
+  const double psi_c = psi_c_, rho = opt_.elastic_limit, cap = opt_.max_damage_increment,
+               tol = opt_.damage_tolerance;
+  const double* Y = y_pair_.data();
+  const std::int64_t* rev = reverse_.data();
+  double* kappa = work_.data();
+  double* dmg = psi_last_.data();
+  char* act = to_break_.data();  // 1: damage grew, 2: the pair breaks (d = 1 or inverted)
+  double dmax = 0.0;
+  std::size_t damaged = 0, changed = 0;
+  // each pair is updated by its lower end i < j (it owns both directions q and r)
+#pragma omp parallel for schedule(dynamic, 32) reduction(+ : damaged, changed) reduction(max : dmax)
+  for (std::size_t i = 0; i < N; ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+      act[q] = 0;
+      if (static_cast<std::size_t>(fam.index[q]) < i || B.broken(q)) continue;
+      const auto r = rev[q];
+      if (!(Y[q] < std::numeric_limits<double>::infinity())) {  // inverted stencil, or NaN
+        act[q] = 2;
+        ++changed;
+        continue;
+      }
+      const double k = std::max(kappa[q], Y[q]);
+      kappa[q] = kappa[r] = k;
+      const double d0 = dmg[q], d = std::min(linear_softening_damage(k, psi_c, rho), d0 + cap);
+      if (!(d > d0)) continue;
+      dmax = std::max(dmax, d - d0);
+      if (d - d0 > tol) ++damaged;
+      dmg[q] = dmg[r] = std::min(d, 1.0);
+      act[q] = d >= 1.0 ? 2 : 1;
+      ++changed;
+    }
+  pass.damaged = damaged;
+  pass.max_damage_increment = dmax;
+  if (changed == 0) {
+    all_rebuilt_.clear();
+    return pass;
+  }
+  // Dissipation: the energy the update releases at fixed u (the weights fall by Δd and the
+  // lenses lose the softened members' shares), Σ_s w_s (Ψ(F_s) − Ψ(I)) before − after.
+  const double before = stored_energy(u), dissipated_before = dissipated_;
+  std::size_t softened = 0;
+  for (std::size_t i = 0; i < N; ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+      if (act[q] == 1) {
+        body_->set_bond_stiffness_factor(q, 1.0 - dmg[q]);
+        body_->set_bond_stiffness_factor(rev[q], 1.0 - dmg[q]);
+        ++softened;
+      } else if (act[q] == 2) {
+        pass.broken += break_pair(static_cast<int>(i), q) ? 1 : 0;
+      }
+    }
+  finish_breaks(u, pass, softened > 0);
+  const double after = stored_energy(u);
+  if (std::isfinite(before) && std::isfinite(after))
+    dissipated_ = dissipated_before + (before - after);
+  return pass;
+}
+
+double Rupture::stored_energy(const Eigen::VectorXd& u) const {
+  const Discretization& B = *body_;
+  const Stencils& S = B.bond_stencils();
+  const int d = B.dimension();
+  const Material& mat = model_->material();
+  double e = 0.0;
+  bool ok = true;
+#pragma omp parallel for schedule(static) reduction(+ : e) reduction(&& : ok)
+  for (std::size_t s = 0; s < S.size(); ++s) {
+    if (!(S.weight[s] > 0)) continue;
+    Mat3 F = Mat3::Identity();
+    for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+      const int m = S.index[r];
+      const double* g = S.grad.data() + r * d;
+      for (int a = 0; a < d; ++a)
+        for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
+    }
+    double psi = 0;
+    if (!mat.evaluate_at(S.center[s], F, &psi, nullptr, nullptr)) ok = false;
+    e += S.weight[s] * (psi - psi_ref_[S.center[s]]);
+  }
+  return ok ? e : std::numeric_limits<double>::quiet_NaN();
+}
+
+void Rupture::finish_breaks(const Eigen::VectorXd& u, RupturePass& pass, bool softened) {
   // centres rebuilt over all rounds of this pass (for a local re-estimate of the stable step)
   std::vector<int> centres;
-  if (pass.broken > 0) {
+  if (pass.broken > 0 || softened) {
     pass.rebuilt = commit(u);
     centres = body_->last_rebuilt_centres();
   }
@@ -231,7 +445,7 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
   // evaluated there and the re-equilibrium could not even start. Such a bond counts as past
   // every criterion (as energy_density already treats J ≤ 0) and breaks too; repeat until
   // every intact stencil is admissible at u (bounded: each round breaks at least one bond).
-  for (int round = 0; pass.broken > 0 && round < 100; ++round) {
+  for (int round = 0; (pass.broken > 0 || softened) && round < 100; ++round) {
     const std::vector<int> last = body_->last_rebuilt_centres();
     const std::size_t inv = break_inverted(u, &pass.point_stencils_off, &last);
     if (inv == 0) break;
@@ -247,7 +461,6 @@ RupturePass Rupture::break_exceeding(const Eigen::VectorXd& u) {
   }
   all_rebuilt_ = std::move(centres);
   pass.anchored = model_->anchors().size();
-  return pass;
 }
 
 RupturePass Rupture::break_inadmissible(const Eigen::VectorXd& u) {
@@ -353,7 +566,17 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
 
 std::size_t Rupture::commit(const Eigen::VectorXd& u) {
   const std::size_t n = body_->rebuild_broken(opt_.min_reciprocal_condition);
-  if (!work_.empty()) {
+  if (softening()) {
+    // as below: an ill-posed rebuilt stencil releases what its direction still stores
+    const Csr& fam = body_->families();
+    const Stencils& S = body_->bond_stencils();
+    for (int c : body_->last_rebuilt_centres())
+      for (auto q = fam.begin(c); q < fam.end(c); ++q)
+        if (!body_->broken(q) && !(S.weight[q] > 0) && energy_last_[q] != 0) {
+          if (std::isfinite(energy_last_[q])) dissipated_ += (1.0 - psi_last_[q]) * energy_last_[q];
+          energy_last_[q] = 0;
+        }
+  } else if (!work_.empty()) {
     // An intact bond whose rebuilt stencil is ill-posed carries no stress any more (weight
     // 0): the work stored in it is released for good and counted as dissipated.
     const Csr& fam = body_->families();
@@ -415,7 +638,7 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
   } reset{solver};
   for (int pass_no = 1;; ++pass_no) {
     const RupturePass p = break_exceeding(solver.displacement());
-    if (p.broken == 0) {
+    if (p.broken == 0 && p.damaged == 0) {  // damaged: softening pairs still moving
       if (pass_no > 1)
         log::info("rupture at t = {:.6g}: no further bond past {} {} after {} passes (max {:.4g})",
                   solver.load_factor(), to_string(opt_.criterion), opt_.critical, pass_no - 1,
@@ -432,6 +655,9 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     StepReport rep;
     during = during_points = 0;
     const bool ok = solver.reequilibrate(rep);
+    if (softening())
+      log::debug("rupture pass {}: damage grew in {} pairs by more than {} (largest {:.3g})",
+                 pass_no, p.damaged, opt_.damage_tolerance, p.max_damage_increment);
     log::info(
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "

@@ -7,7 +7,7 @@
 # results_NNNN.h5 exactly equal (the files' command_line attributes differ by design).
 # Cases: quasi-static Newton (load steps, no rupture), quasi-static with rupture (broken bonds,
 # rebuilt stencils, anchors in the checkpoint; and with the fracture_energy rule, its bond
-# work), dynamic (inertia + viscous damping, prescribed
+# work, and with its softening law, the damage), dynamic (inertia + viscous damping, prescribed
 # motion, initial velocity), ADR, dynamic fracture; and one run killed while a checkpoint is
 # being written (SIGSTOP when its temporary exists, then SIGKILL): the previous checkpoint is
 # used and the restart removes the dead run's temporaries.
@@ -159,6 +159,11 @@ sed -e 's/steps: 3/steps: 4/' \
     -e 's/criterion: bond_stretch, critical: 1.15/criterion: fracture_energy, surface_energy: 0.004/' \
     rup.yaml > rupfe.yaml
 run_case rupture_fe rupfe.yaml reactions.csv 4
+# the softening law (docs/fracture.md §6): damage history and damage in the checkpoint, the
+# weights and lenses of the damaged pairs rebuilt from them on restart
+sed -e 's/surface_energy: 0.004/surface_energy: 0.004, softening: linear, elastic_limit: 0.3/' \
+    rupfe.yaml > rupsoft.yaml
+run_case rupture_soft rupsoft.yaml reactions.csv 4
 # dynamic fracture (inertia + rupture): bonds break before and after the checkpoint; the
 # broken pairs, the switched-off point stencils and the (shrunk) time step are restored
 cat > dynrup.yaml <<'Y'

@@ -175,6 +175,21 @@ class Discretization {
   std::size_t broken_bonds() const { return n_broken_; }
   /// Stencils switched off because their family became ill-posed.
   std::size_t suppressed_stencils() const { return n_suppressed_; }
+  /// Stiffness factor of the bond q (CSR order), in [0, 1]: the (1 − d) of a softening
+  /// failure law (docs/fracture.md §6). Its BA stencil's weight becomes V_iφ̂_ijV_j · factor
+  /// at once; at the next rebuild_broken (the ends are marked like those of a broken bond)
+  /// the member j of the stencils of i (and i of j's) counts with this share — in the
+  /// moment matrix, the lens volume |B| and the family volume — and each family is
+  /// renormalised to Σ_j φ̂_ijV_j·factor_ij = 1: factor 0 is a broken bond, continuously.
+  /// All 1 (and nothing allocated) until first set.
+  void set_bond_stiffness_factor(std::int64_t q, double factor);
+  double bond_stiffness_factor(std::int64_t q) const {
+    return bond_factor_.empty() ? 1.0 : bond_factor_[q];
+  }
+  /// Weight of the BA stencil q without its stiffness factor: V_iφ̂_ijV_j.
+  double intact_bond_weight(std::int64_t q) const {
+    return vol_[bond_.center[q]] * phi_hat_[q] * vol_[families_.index[q]];
+  }
 
  private:
   void build(const DiscretizationOptions& opt);
@@ -189,10 +204,11 @@ class Discretization {
   std::vector<double> phi_hat_;
   // rupture state (empty unless enabled)
   DiscretizationOptions opt_;
-  std::vector<char> broken_;      // per directed bond
-  std::vector<char> suppressed_;  // per bond stencil: ill-posed, weight 0
-  std::vector<char> point_off_;   // per point: point stencil switched off (inverted)
-  std::vector<int> dirty_;        // points whose stencils need a rebuild
+  std::vector<char> broken_;         // per directed bond
+  std::vector<char> suppressed_;     // per bond stencil: ill-posed, weight 0
+  std::vector<char> point_off_;      // per point: point stencil switched off (inverted)
+  std::vector<double> bond_factor_;  // per bond stencil: stiffness factor (empty: all 1)
+  std::vector<int> dirty_;           // points whose stencils need a rebuild
   std::vector<int> rebuilt_centres_;
   std::size_t n_broken_ = 0, n_suppressed_ = 0;
 };

@@ -13,6 +13,18 @@
 ///                        body), ψ_c = G_c / (β_d δ) so that a straight crack through a
 ///                        homogeneous body dissipates G_c per unit area (docs/fracture.md §5,
 ///                        theory.md §12). The criterion value is W_ij / W_c,ij (critical 1).
+///   With softening (fracture_energy only, docs/fracture.md §6): each pair carries an
+///   irreversible damage d ∈ [0, 1] that scales the weight of both its stencils by (1 − d);
+///   d follows the history κ = max over time of the pair's energy density
+///   Y = (w_ijΨ(F_ij) + w_jiΨ(F_ji)) / (w_ij + w_ji) (w the undamaged weights) through a
+///   linear-softening law in the equivalent strain e = √κ, from 0 at e₀ = √(ρψ_c) to 1 at
+///   e_f = √(ψ_c/ρ) (ρ = options.elastic_limit), so that a pair dissipates
+///   ψ_c (w_ij + w_ji) from intact to separated, the same G_c per unit crack area as the
+///   brittle rule; at d = 1 the pair breaks. The member j of the lenses of i's stencils
+///   (and i of j's) counts with the share 1 − d (Discretization::set_bond_stiffness_factor),
+///   so a softening pair leaves the lenses continuously. Staggered: d is frozen in each
+///   solve (secant stiffness) and updated between solves until it stops growing. The
+///   criterion value is √κ / e_f.
 /// Broken bonds leave every family that holds them and the affected PDDO stencils are
 /// rebuilt locally (Discretization::rebuild_broken). Quasi-static runs are staggered: after
 /// a converged load step, bonds past the criterion break, equilibrium is re-solved at the
@@ -37,6 +49,19 @@ namespace pdcg::solver {
 enum class RuptureCriterion { bond_stretch, principal_stretch, energy_density, fracture_energy };
 RuptureCriterion parse_rupture_criterion(const std::string& name);  // throws InputError
 std::string to_string(RuptureCriterion c);
+/// Failure law of the fracture_energy criterion: elastic-brittle (none: the pair breaks when
+/// its work reaches W_c) or a damage that softens the pair linearly in the equivalent strain
+/// (linear; docs/fracture.md §6).
+enum class RuptureSoftening { none, linear };
+RuptureSoftening parse_rupture_softening(const std::string& name);  // throws InputError
+std::string to_string(RuptureSoftening s);
+
+/// Damage of the linear softening law at the history κ (an energy density) for the
+/// critical energy density ψ_c and the elastic limit ρ = e₀/e_f ∈ (0, 1]: with e = √κ,
+/// e₀ = √(ρψ_c), e_f = √(ψ_c/ρ): d = 0 for e ≤ e₀, 1 for e ≥ e_f, and otherwise
+/// d = 1 − (e₀/e)(e_f − e)/(e_f − e₀) (the 1-D stress (1 − d)E ε falls linearly from E ε₀ to
+/// 0; ∫₀^∞ (1 − d) dκ = e₀e_f = ψ_c: the energy a pair dissipates per unit weight).
+double linear_softening_damage(double kappa, double psi_c, double elastic_limit);
 
 /// β_d = ⟨|ξ·n|⟩_φ̂ / δ: the mean projected bond length, over δ, of an interior BA family
 /// weighted by the continuum φ̂ (docs/fracture.md §5, closed forms):
@@ -66,6 +91,18 @@ struct RuptureOptions {
   /// fracture_energy: the critical energy release rate G_c (energy per unit crack area;
   /// energy per unit length in 2D), > 0.
   double fracture_energy = 0.0;
+  /// fracture_energy: the failure law (none: elastic-brittle).
+  RuptureSoftening softening = RuptureSoftening::none;
+  /// softening: ρ = e₀/e_f, the equivalent strain at which softening starts over the one at
+  /// full separation, in (0, 1] (ρ = 1: the pair drops from e₀ = √ψ_c to 0 at once).
+  double elastic_limit = 0.1;
+  /// softening: the staggered passes stop when no pair's damage grew by more than this in
+  /// the last pass (and no pair broke).
+  double damage_tolerance = 1e-3;
+  /// softening: the largest damage increment of a pair in one pass (the rest follows in the
+  /// next passes), in (0, 1]; smaller values follow the continuous softening path more
+  /// closely (docs/fracture.md §6.2).
+  double max_damage_increment = 1.0;
 };
 
 struct RupturePass {
@@ -76,6 +113,10 @@ struct RupturePass {
   std::size_t inverted = 0;  ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
   /// weak-form point stencils switched off because F̄_k was inverted (J ≤ 0)
   std::size_t point_stencils_off = 0;
+  /// softening: pairs whose damage grew by more than options.damage_tolerance, and the
+  /// largest damage increment of the pass
+  std::size_t damaged = 0;
+  double max_damage_increment = 0.0;
 };
 
 class Rupture {
@@ -131,7 +172,12 @@ class Rupture {
   /// broke (W_ij, both directions).
   double dissipated_energy() const { return dissipated_; }
   /// Checkpoint state of the work integrals: work, the last Ψ per directed bond, dissipated.
+  /// With softening the two arrays hold the damage state instead: bond_work() the history
+  /// κ of each directed bond's pair, bond_work_last_psi() its damage d (restore_work sets
+  /// the stiffness factors 1 − d again).
   const std::vector<double>& bond_work_last_psi() const { return psi_last_; }
+  /// softening: damage d of each directed bond's pair (CSR order; empty otherwise).
+  const std::vector<double>& bond_damage() const { return psi_last_; }
   void restore_work(std::vector<double> work, std::vector<double> last_psi, double dissipated);
 
  private:
@@ -147,6 +193,15 @@ class Rupture {
   double evaluate_directed(const Eigen::VectorXd& u) const;
   /// Marks (i, j) broken; with fracture_energy adds the pair's stored work to dissipated_.
   bool break_pair(int i, std::int64_t q);
+  /// softening: updates every pair's history and damage from u, breaks the pairs that
+  /// reach d = 1 (and inverted ones), rebuilds.
+  RupturePass soften(const Eigen::VectorXd& u);
+  /// After bonds broke in a pass: rebuilds, breaks the bonds whose rebuilt stencils invert
+  /// at u (repeatedly), records the rebuilt centres and the anchors.
+  void finish_breaks(const Eigen::VectorXd& u, RupturePass& pass, bool softened = false);
+  /// softening: Σ over the BA stencils of w_s (Ψ(F_s) − Ψ(I)) at u (NaN if one is inverted).
+  double stored_energy(const Eigen::VectorXd& u) const;
+  bool softening() const { return opt_.softening != RuptureSoftening::none; }
   Discretization* body_;
   mutable std::vector<double> dir_;  // scratch: criterion per directed bond
   std::vector<int> all_rebuilt_;
@@ -160,6 +215,13 @@ class Rupture {
   mutable std::vector<double> work_;   // accumulated work (energy)
   mutable std::vector<double> psi_last_;
   double dissipated_ = 0.0;
+  // softening: work_ holds the history κ, psi_last_ the damage d (both per directed bond,
+  // equal in the two directions of a pair); scratch per directed bond: the undamaged
+  // energy w_ijΨ(F_ij) at the last evaluation (the dissipation of a pair that breaks before
+  // d = 1), the pair's energy density Y; per point Ψ(I) (a Cauchy–Born W need not vanish).
+  mutable std::vector<double> energy_last_, y_pair_;
+  std::vector<double> psi_ref_;
+  std::vector<char> to_break_;
 };
 
 }  // namespace pdcg::solver

@@ -233,4 +233,105 @@ inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delt
   return out;
 }
 
+// The same square and boundary layer with the softening failure law (docs/fracture.md §6):
+// crack faces as PD surfaces (BoundaryForm::energy), the field following the tip. K starts
+// where the most loaded pair reaches the elastic limit (the criterion √κ/e_f ∝ K equals ρ)
+// and rises by the factor 1 + dK per step; at each K the staggered passes update the damage
+// until it stops growing (rupture.damage_tolerance). One event per step (tip: largest x at
+// which a broken pair — d = 1 — crosses y = 0); dissipated = Σ Δd · (undamaged pair energy)
+// + what broken pairs still stored. Stops when the tip has advanced by a_max δ or after
+// max_steps.
+inline KfieldResult kfield_softening(double m, double L_over_delta, double a_max_over_delta,
+                                     double elastic_limit, double dK = 0.01,
+                                     double max_damage_increment = 1.0, int max_steps = 400,
+                                     bool verbose = false) {
+  KfieldSquare square = kfield_square(m, L_over_delta);
+  const double delta = square.delta, L = square.L;
+  Discretization& body = square.body;
+  auto mat = make_neo_hookean({1.0, 2.0}, Kinematics::plane_strain);
+  ModelOptions mo;
+  mo.boundary = BoundaryForm::energy;
+  Model model(body, *mat, mo);
+  const auto& x = body.positions();
+  std::vector<int> outer;
+  for (std::size_t i = 0; i < body.size(); ++i)
+    if (std::max(std::abs(x[i].x()), std::abs(x[i].y())) > L - delta)
+      outer.push_back(static_cast<int>(i));
+  const double G_c = 1e-6, Kc = std::sqrt(G_c * kfield_E_prime);
+  RuptureOptions ro;
+  ro.criterion = RuptureCriterion::fracture_energy;
+  ro.fracture_energy = G_c;
+  ro.softening = RuptureSoftening::linear;
+  ro.elastic_limit = elastic_limit;
+  ro.max_damage_increment = max_damage_increment;
+  ro.max_passes = 100000;
+  Rupture rup(body, model, ro);
+  double centre = 0;
+  std::vector<DisplacementSet> ds;
+  NewtonOptions no;
+  no.steps = 1;
+  no.tolerance = 1e-10;
+  std::unique_ptr<StaticSolver> solver;
+  auto solve_at = [&](double K) {
+    ds.assign(outer.size(), DisplacementSet{"K-field", {}, {}});
+    for (std::size_t k = 0; k < outer.size(); ++k) {
+      const Vec3 uu = kfield_unit_displacement(x[outer[k]], centre);
+      ds[k].points = {outer[k]};
+      ds[k].component[0] = [ux = uu.x()](double t) { return t * ux; };
+      ds[k].component[1] = [uy = uu.y()](double t) { return t * uy; };
+    }
+    solver = std::make_unique<StaticSolver>(model, ds, std::vector<TractionSet>{}, no);
+    solver->advance_to(K);
+  };
+  const Csr& fam = body.families();
+  auto tip = [&] {
+    double a = 0;
+    for (std::size_t i = 0; i < body.size(); ++i)
+      for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+        const int j = fam.index[q];
+        if (!body.broken(q) || !(x[i].y() < 0 && x[j].y() > 0)) continue;
+        const double s = -x[i].y() / (x[j].y() - x[i].y());
+        a = std::max(a, x[i].x() + s * (x[j].x() - x[i].x()));
+      }
+    return a;
+  };
+  auto vmax = [&] {
+    double v = 0;
+    for (double c : rup.criterion_values(solver->displacement())) v = std::max(v, c);
+    return v;
+  };
+  KfieldResult out;
+  out.delta = delta;
+  out.L = L;
+  double K = 0.5 * Kc;
+  solve_at(K);
+  K *= elastic_limit / vmax();  // the criterion √κ/e_f is ∝ K before any damage
+  for (int step = 0; step < max_steps; ++step) {
+    solve_at(K);
+    const double Pi0 = model.energy(solver->displacement());
+    const std::size_t nb = rup.stagger(*solver);
+    const double Pi1 = model.energy(solver->displacement());
+    const double a = tip();
+    std::size_t ncross = 0;
+    for (std::size_t i = 0; i < body.size(); ++i)
+      for (auto q = fam.begin(i); q < fam.end(i); ++q)
+        if (body.broken(q) && x[i].y() < 0 && x[fam.index[q]].y() > 0) ++ncross;
+    if (body.broken_bonds() > 0)
+      out.events.push_back({K / Kc, a, body.broken_bonds(), rup.dissipated_energy() / G_c,
+                            (Pi0 - Pi1) / G_c, ncross});
+    if (verbose) {
+      std::printf(
+          "K/Kc %.4f  tip %.3f (%.3f δ)  broke %zu (total %zu, crossing %zu)  dissipated/G_c "
+          "%.4f  released/G_c %.4f\n",
+          K / Kc, a, a / delta, nb, body.broken_bonds(), ncross, rup.dissipated_energy() / G_c,
+          (Pi0 - Pi1) / G_c);
+      std::fflush(stdout);
+    }
+    centre = a;
+    if (a >= a_max_over_delta * delta) break;
+    K *= 1 + dK;
+  }
+  return out;
+}
+
 }  // namespace pdcg::solver::test
