@@ -66,6 +66,12 @@ struct RuptureOptions {
   /// fracture_energy: the critical energy release rate G_c (energy per unit crack area;
   /// energy per unit length in 2D), > 0.
   double fracture_energy = 0.0;
+  /// Quasi-static re-equilibrium when Newton fails at fixed load (docs/effects.md §2):
+  /// pseudo-transient continuation (StaticSolver::pseudo_transient) first, with at most
+  /// continuation_iterations factorisations, then adaptive dynamic relaxation; false: ADR
+  /// only (the scheme before pseudo-transient continuation, kept for comparisons).
+  bool pseudo_transient = true;
+  int continuation_iterations = 100;
 };
 
 struct RupturePass {
@@ -76,6 +82,20 @@ struct RupturePass {
   std::size_t inverted = 0;  ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
   /// weak-form point stencils switched off because F̄_k was inverted (J ≤ 0)
   std::size_t point_stencils_off = 0;
+};
+
+/// Work of the staggered re-equilibration at one load (Rupture::stagger), for the log and
+/// the benchmarks: Newton iterations (converged and failed solves), factorisations of the
+/// pseudo-transient continuation, ADR iterations, passes that needed a fallback, wall time.
+struct StaggerCost {
+  int passes = 0;
+  int newton_iterations = 0;
+  int failed_newton_iterations = 0;  ///< of newton_iterations: in solves that failed
+  int continuation_iterations = 0;
+  int relaxation_iterations = 0;
+  int continuation_passes = 0;  ///< passes that Newton failed and the continuation resolved
+  int relaxation_passes = 0;    ///< passes that needed ADR
+  double seconds = 0.0;
 };
 
 class Rupture {
@@ -105,6 +125,9 @@ class Rupture {
   /// bond breaks. Returns the number of bonds broken. Throws NumericalError if the
   /// re-solve fails (unstable crack growth) or max_passes is exceeded.
   std::size_t stagger(StaticSolver& solver);
+  /// Work of the last stagger call, and summed over all calls.
+  const StaggerCost& last_stagger_cost() const { return last_cost_; }
+  const StaggerCost& total_stagger_cost() const { return total_cost_; }
   /// After Discretization::break_bond calls: rebuilds the touched stencils and parks
   /// the points nothing couples any more at their displacement u. Returns stencils rebuilt.
   std::size_t commit(const Eigen::VectorXd& u);
@@ -160,6 +183,8 @@ class Rupture {
   mutable std::vector<double> work_;   // accumulated work (energy)
   mutable std::vector<double> psi_last_;
   double dissipated_ = 0.0;
+  StaggerCost last_cost_, total_cost_;
+  double peak_force_ = 0.0;  // largest ‖f_int‖ of a converged state seen by stagger
 };
 
 }  // namespace pdcg::solver
