@@ -880,13 +880,16 @@ bool StaticSolver::pseudo_transient(double tol, int max_iterations, StepReport& 
   bool umf_analysed = linear == LinearSolver::umfpack;
   double sigma = 1.0;
   int rejected = 0;
+  bool model_changed = false;
   auto done = [&](bool ok) {
     rep.residual = rnorm;
     rep.cutbacks = rejected;
     rep.assembly_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() -
         rep.solve_seconds;
-    if (ok) {
+    // Once the handler changed the model (stencils broke), the start state may be
+    // inadmissible for it: keep the last admissible state even on failure (for relax).
+    if (ok || model_changed) {
       u_ = u;
       f_ = f;
     }
@@ -956,7 +959,7 @@ bool StaticSolver::pseudo_transient(double tol, int max_iterations, StepReport& 
       // As in ADR: stencils that invert on the way break there (rupture), and the
       // continuation goes on from that state with the changed model.
       if (!admissible && inadmissible_ && inadmissible_(ut) && eval(ut, ft))
-        admissible = changed = true;
+        admissible = changed = model_changed = true;
       if (admissible) {
         reduced_residual(ut, ft, fext, t_, Rt);
         rt = relative(Rt, ft);

@@ -142,7 +142,8 @@ class StaticSolver {
   /// (rupture: the inverted stencils break, as in relax) is taken as it stands; a step to
   /// another inadmissible state, or one that more than doubles ‖R‖, is rejected and σ multiplied by
   /// 10 (the tangent is kept: one more factorisation). Stops when ‖R_f‖ ≤ tol·max(‖f‖, ‖f_ext‖)
-  /// (then Newton polishes, as after relax). Returns false (state restored) after max_iterations
+  /// (then Newton polishes, as after relax). Returns false (state restored, unless the handler
+  /// changed the model: then the last admissible state is kept) after max_iterations
   /// factorisations, when σ exceeds 10⁸, or with an iterative linear solver (not supported:
   /// the caller falls back to relax). The quasi-static rupture fallback (docs/effects.md §2).
   bool pseudo_transient(double tol, int max_iterations, StepReport& rep);
