@@ -138,8 +138,9 @@ class StaticSolver {
   /// shifted matrix is diagonally dominant, a short, safe step; ADR uses ¼ of them as its
   /// masses), σ_0 = 1 and σ_{n+1} = σ_n min(½, ‖R_{n+1}‖ / ‖R_n‖) (SER: the pseudo-time
   /// step grows as the residual falls, here at least twofold per accepted step; σ → 0 is
-  /// Newton). A step to an inadmissible state (J ≤ 0) that the inadmissible handler resolves
-  /// (rupture: the inverted stencils break, as in relax) is taken as it stands; a step to
+  /// Newton). A step with σ ≥ 0.1 to an inadmissible state (J ≤ 0) that the inadmissible
+  /// handler resolves (rupture: the inverted stencils break, as in relax) is taken as it
+  /// stands; a step to
   /// another inadmissible state, or one that more than doubles ‖R‖, is rejected and σ multiplied by
   /// 10 (the tangent is kept: one more factorisation). Stops when ‖R_f‖ ≤ tol·max(‖f‖, ‖f_ext‖)
   /// (then Newton polishes, as after relax). Returns false (state restored, unless the handler
