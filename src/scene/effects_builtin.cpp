@@ -241,9 +241,10 @@ class RuptureEffect final : public Effect {
       if (!r)
         throw c.err(root["effects"], "rupture", "rupture is listed but has no settings")
             .expected("rupture: {criterion: bond_stretch, critical: 2.5}");
-      c.keys(r, "rupture",
-             {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy",
-              "softening", "elastic_limit", "damage_tolerance", "max_damage_increment"});
+      c.keys(
+          r, "rupture",
+          {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy",
+           "softening", "elastic_limit", "damage_tolerance", "max_damage_increment", "fallback"});
       if (r["criterion"])
         s.rupture_options.criterion = solver::parse_rupture_criterion(
             c.choice(r["criterion"], "rupture.criterion",
@@ -331,6 +332,17 @@ class RuptureEffect final : public Effect {
       }
       if (r["max_passes"])
         s.rupture_options.max_passes = c.integer(r["max_passes"], "rupture.max_passes");
+      if (r["fallback"] && s.inertia)
+        throw c
+            .err(r["fallback"], "rupture.fallback",
+                 "fallback chooses how a quasi-static staggered pass re-equilibrates when Newton "
+                 "fails; a dynamic run has no re-equilibration")
+            .fix("remove fallback");
+      // docs/effects.md §2: pseudo-transient continuation, then ADR (default); ADR only
+      if (r["fallback"])
+        s.rupture_options.pseudo_transient =
+            c.choice(r["fallback"], "rupture.fallback", {"pseudo_transient", "relaxation"}) ==
+            "pseudo_transient";
       const bool stretch =
           s.rupture_options.criterion != solver::RuptureCriterion::energy_density && !griffith;
       if (stretch && !(s.rupture_options.critical > 1.0))
@@ -374,7 +386,9 @@ class RuptureEffect final : public Effect {
       if (s.inertia)
         y << YAML::Key << "check_every" << YAML::Value << s.rupture_options.check_every;
       else
-        y << YAML::Key << "max_passes" << YAML::Value << s.rupture_options.max_passes;
+        y << YAML::Key << "max_passes" << YAML::Value << s.rupture_options.max_passes << YAML::Key
+          << "fallback" << YAML::Value
+          << (s.rupture_options.pseudo_transient ? "pseudo_transient" : "relaxation");
       y << YAML::EndMap;
     }
   }

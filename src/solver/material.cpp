@@ -153,12 +153,20 @@ double NeoHookeanPlaneStress::thickness_stretch(const Mat3& F) const {
   if (!(J2d > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   double lo = 0.0, hi = std::numeric_limits<double>::infinity();
   double lam = 1.0 / std::sqrt(J2d);
-  Mat3 P;
-  Tangent A;
+  // P₃₃ and A₃₃₃₃ = ∂P₃₃/∂λ of neo_hookean_3d at diag(F₂, λ) in closed form (F⁻ᵀ₃₃ = 1/λ):
+  //   A₃₃₃₃ = μJ^(−2/3) (5I₁/(9λ²) − 1/3) + K/4 (J² + 3J⁻²)/λ²,
+  // scalars only (the full 3×3×3×3 tangent per iteration was a third of a plane-stress
+  // assembly: measured with perf on the 50 × 50 rupture sheet, docs/effects.md §2).
+  const double mu = p_.shear_modulus, K = p_.bulk_modulus;
+  const double I1p = F(0, 0) * F(0, 0) + F(0, 1) * F(0, 1) + F(1, 0) * F(1, 0) + F(1, 1) * F(1, 1);
   for (int it = 0; it < 100; ++it) {
-    if (!neo_hookean_3d(p_, embed(F, lam), nullptr, &P, &A))
-      return std::numeric_limits<double>::quiet_NaN();
-    const double r = P(2, 2), d = A(8, 8);
+    const double J = J2d * lam;
+    if (!(J > 0.0) || !std::isfinite(J)) return std::numeric_limits<double>::quiet_NaN();
+    const double I1 = I1p + lam * lam, il = 1.0 / lam, Jm23 = std::pow(J, -2.0 / 3.0);
+    const double J2 = J * J, Jm2 = 1.0 / J2;
+    const double r = mu * Jm23 * (lam - I1 * il / 3.0) + 0.25 * K * (J2 - Jm2) * il;
+    const double d =
+        mu * Jm23 * (5.0 * I1 * il * il / 9.0 - 1.0 / 3.0) + 0.25 * K * (J2 + 3.0 * Jm2) * il * il;
     if (r > 0)
       hi = std::min(hi, lam);
     else

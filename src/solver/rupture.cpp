@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -620,6 +621,26 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
 
 std::size_t Rupture::stagger(StaticSolver& solver) {
   std::size_t total = 0;
+  const auto t_start = std::chrono::steady_clock::now();
+  last_cost_ = StaggerCost{};
+  StaggerCost& cost = last_cost_;
+  struct Account {  // adds the cost of this call to the total however it ends
+    Rupture& r;
+    std::chrono::steady_clock::time_point t0;
+    ~Account() {
+      StaggerCost& c = r.last_cost_;
+      c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      StaggerCost& T = r.total_cost_;
+      T.passes += c.passes;
+      T.newton_iterations += c.newton_iterations;
+      T.failed_newton_iterations += c.failed_newton_iterations;
+      T.continuation_iterations += c.continuation_iterations;
+      T.relaxation_iterations += c.relaxation_iterations;
+      T.continuation_passes += c.continuation_passes;
+      T.relaxation_passes += c.relaxation_passes;
+      T.seconds += c.seconds;
+    }
+  } account{*this, t_start};
   // Stencils that invert (J ≤ 0) during the re-equilibrium (Newton's accepted states, ADR
   // iterates) break there and the solve goes on (docs/effects.md §2).
   std::size_t during = 0, during_points = 0;
@@ -636,13 +657,24 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     StaticSolver& s;
     ~Reset() { s.set_inadmissible_handler({}); }
   } reset{solver};
+  // Residual scale: once the crack has separated the body, the internal force is round-off
+  // and the relative residual stays O(1) at the equilibrium; 1e-4 of the largest force of a
+  // converged state (a load the body no longer carries) keeps the criterion meaningful and
+  // changes nothing while the body carries more than that (docs/effects.md §2).
+  peak_force_ = std::max(peak_force_, solver.internal_force().norm());
+  solver.set_force_floor(std::max(solver.force_floor(), 1e-4 * peak_force_));
   for (int pass_no = 1;; ++pass_no) {
     const RupturePass p = break_exceeding(solver.displacement());
     if (p.broken == 0 && p.damaged == 0) {  // damaged: softening pairs still moving
       if (pass_no > 1)
-        log::info("rupture at t = {:.6g}: no further bond past {} {} after {} passes (max {:.4g})",
-                  solver.load_factor(), to_string(opt_.criterion), opt_.critical, pass_no - 1,
-                  p.max_value);
+        log::info(
+            "rupture at t = {:.6g}: no further bond past {} {} after {} passes (max {:.4g}); "
+            "{} Newton iterations ({} in failed solves), {} pseudo-transient and {} ADR "
+            "iterations, {:.2f} s",
+            solver.load_factor(), to_string(opt_.criterion), opt_.critical, pass_no - 1,
+            p.max_value, cost.newton_iterations, cost.failed_newton_iterations,
+            cost.continuation_iterations, cost.relaxation_iterations,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
       return total;
     }
     total += p.broken;
@@ -652,49 +684,98 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
           "broken in total); the crack runs unstably at fixed load — use more load steps or a "
           "larger rupture.max_passes",
           solver.load_factor(), opt_.max_passes, body_->broken_bonds()));
+    ++cost.passes;
+    const auto t_pass = std::chrono::steady_clock::now();
     StepReport rep;
     during = during_points = 0;
     const bool ok = solver.reequilibrate(rep);
     if (softening())
       log::debug("rupture pass {}: damage grew in {} pairs by more than {} (largest {:.3g})",
                  pass_no, p.damaged, opt_.damage_tolerance, p.max_damage_increment);
+    if (ok)
+      cost.newton_iterations += rep.iterations;
+    else {
+      cost.newton_iterations += static_cast<int>(rep.residual_history.size());
+      cost.failed_newton_iterations += static_cast<int>(rep.residual_history.size());
+    }
     log::info(
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
         "{} stencils rebuilt, {} ill-posed stencils off, {} detached points; re-equilibrium: {} "
         "({} Newton iterations, residual {:.3e}, force balance {:.2e} of the load; {} bonds "
-        "broke and {} point stencils went off when their stencils inverted during it)",
+        "broke and {} point stencils went off when their stencils inverted during it; {:.2f} s)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
         ok ? "converged" : "FAILED", rep.iterations,
         rep.residual_history.empty() ? NAN : rep.residual_history.back(),
-        ok ? solver.force_balance() : NAN, during, during_points);
-    if (!ok) {
+        ok ? solver.force_balance() : NAN, during, during_points,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_pass).count());
+    if (ok) continue;
+    if (opt_.pseudo_transient) {
+      log::info(
+          "rupture pass {} at t = {:.6g}: Newton cannot re-equilibrate after {} bonds broke "
+          "(residual history {:.2e}) — the crack grows unstably at fixed load; pseudo-transient "
+          "continuation",
+          pass_no, solver.load_factor(), p.broken, fmt::join(rep.residual_history, " "));
+      const auto t_ptc = std::chrono::steady_clock::now();
+      StepReport ptc;
+      during = during_points = 0;
+      const bool continued =
+          solver.pseudo_transient(opt_.relaxation_tolerance, opt_.continuation_iterations, ptc);
+      cost.continuation_iterations += ptc.iterations;
+      StepReport polish;
+      const bool polished = continued && solver.reequilibrate(polish);
+      cost.newton_iterations +=
+          polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
+      log::info(
+          "pseudo-transient continuation: {} after {} factorisations ({} steps rejected, "
+          "residual {:.3e}; {} bonds broke and {} point stencils went off when their stencils "
+          "inverted); Newton polish: {} ({} iterations, residual {:.3e}); {:.2f} s",
+          continued ? "converged" : "FAILED", ptc.iterations, ptc.cutbacks, ptc.residual, during,
+          during_points, polished ? "converged" : (continued ? "FAILED" : "skipped"),
+          polish.iterations, polish.residual_history.empty() ? NAN : polish.residual_history.back(),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_ptc).count());
+      if (polished) {
+        ++cost.continuation_passes;
+        continue;
+      }
+      log::warn(
+          "rupture pass {} at t = {:.6g}: pseudo-transient continuation did not re-equilibrate "
+          "(residual history {:.2e}); falling back to adaptive dynamic relaxation",
+          pass_no, solver.load_factor(), fmt::join(ptc.residual_history, " "));
+    } else {
       log::warn(
           "rupture pass {} at t = {:.6g}: Newton cannot re-equilibrate after {} bonds broke "
           "(residual history {:.2e}) — the crack grows unstably at fixed load; falling back to "
           "adaptive dynamic relaxation",
           pass_no, solver.load_factor(), p.broken, fmt::join(rep.residual_history, " "));
-      StepReport adr;
-      during = during_points = 0;
-      const bool relaxed = solver.relax(opt_.relaxation_tolerance, opt_.relaxation_iterations, adr);
-      StepReport polish;
-      const bool polished = relaxed && solver.reequilibrate(polish);
-      log::info(
-          "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}; {} bonds broke "
-          "and {} point stencils went off when their stencils inverted); Newton polish: "
-          "{} ({} iterations, residual {:.3e})",
-          relaxed ? "converged" : "FAILED", adr.iterations, adr.residual, during, during_points,
-          polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
-          polish.residual_history.empty() ? NAN : polish.residual_history.back());
-      if (!polished)
-        throw NumericalError(fmt::format(
-            "rupture at load factor {:.6g}: neither Newton nor adaptive dynamic relaxation "
-            "({} iterations, residual {:.3e}) re-equilibrated the body after {} bonds broke "
-            "(pass {}); the body may have fallen apart (a free fragment has rigid motions) — "
-            "check the damage field of the last output",
-            solver.load_factor(), adr.iterations, adr.residual, p.broken, pass_no));
     }
+    ++cost.relaxation_passes;
+    const auto t_adr = std::chrono::steady_clock::now();
+    StepReport adr;
+    during = during_points = 0;
+    const bool relaxed = solver.relax(opt_.relaxation_tolerance, opt_.relaxation_iterations, adr);
+    cost.relaxation_iterations += adr.iterations;
+    StepReport polish;
+    const bool polished = relaxed && solver.reequilibrate(polish);
+    cost.newton_iterations +=
+        polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
+    log::info(
+        "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}; {} bonds broke "
+        "and {} point stencils went off when their stencils inverted); Newton polish: "
+        "{} ({} iterations, residual {:.3e}); {:.2f} s",
+        relaxed ? "converged" : "FAILED", adr.iterations, adr.residual, during, during_points,
+        polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
+        polish.residual_history.empty() ? NAN : polish.residual_history.back(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_adr).count());
+    if (!polished)
+      throw NumericalError(fmt::format(
+          "rupture at load factor {:.6g}: neither Newton{} nor adaptive dynamic relaxation "
+          "({} iterations, residual {:.3e}) re-equilibrated the body after {} bonds broke "
+          "(pass {}); the body may have fallen apart (a free fragment has rigid motions) — "
+          "check the damage field of the last output",
+          solver.load_factor(), opt_.pseudo_transient ? ", pseudo-transient continuation" : "",
+          adr.iterations, adr.residual, p.broken, pass_no));
   }
 }
 

@@ -170,6 +170,24 @@ class StaticSolver {
   /// converges from far away where Newton does not. Stops when ‖r_f‖ ≤ tol·‖f‖ (then
   /// Newton polishes). Returns false (state restored) after max_iterations.
   bool relax(double tol, int max_iterations, StepReport& rep);
+  /// Pseudo-transient continuation at the current load (Kelley & Keyes, SIAM J. Numer. Anal.
+  /// 35 (1998) 508–523; switched evolution relaxation of Mulder & van Leer, J. Comput. Phys.
+  /// 59 (1985) 232–246): implicit (backward-Euler) steps of the gradient flow D u̇ = −R(u),
+  ///   (K_ff + σ_n D) Δu = −R_f(u_n),   u_{n+1} = u_n + Δu,
+  /// with D = diag(Σ_j |K_ij|) of the start state (the Gershgorin row sums: at σ = 1 the
+  /// shifted matrix is diagonally dominant, a short, safe step; ADR uses ¼ of them as its
+  /// masses), σ_0 = 1 and σ_{n+1} = σ_n min(½, ‖R_{n+1}‖ / ‖R_n‖) (SER: the pseudo-time
+  /// step grows as the residual falls, here at least twofold per accepted step; σ → 0 is
+  /// Newton). A step with σ ≥ 0.1 to an inadmissible state (J ≤ 0) that the inadmissible
+  /// handler resolves (rupture: the inverted stencils break, as in relax) is taken as it
+  /// stands; a step to
+  /// another inadmissible state, or one that more than doubles ‖R‖, is rejected and σ multiplied by
+  /// 10 (the tangent is kept: one more factorisation). Stops when ‖R_f‖ ≤ tol·max(‖f‖, ‖f_ext‖)
+  /// (then Newton polishes, as after relax). Returns false (state restored, unless the handler
+  /// changed the model: then the last admissible state is kept) after max_iterations
+  /// factorisations, when σ exceeds 10⁸, or with an iterative linear solver (not supported:
+  /// the caller falls back to relax). The quasi-static rupture fallback (docs/effects.md §2).
+  bool pseudo_transient(double tol, int max_iterations, StepReport& rep);
 
   /// Called when Newton's accepted state or an ADR iterate is inadmissible (some F with
   /// J ≤ 0): it may change the model there (rupture: break the inverted stencils) and
@@ -178,6 +196,13 @@ class StaticSolver {
   using InadmissibleHandler = std::function<bool(const Eigen::VectorXd& u)>;
   void set_inadmissible_handler(InadmissibleHandler h) { inadmissible_ = std::move(h); }
 
+  /// Floor of the force scale of the relative residual (Newton, ADR, continuation):
+  /// ‖R_f‖ ≤ tol · max(‖f‖, ‖f_ext‖, floor). 0 by default (purely relative). A body that
+  /// has separated carries round-off forces only, so the purely relative residual stays
+  /// O(1) at any equilibrium; the quasi-static rupture driver sets 1e-4 of the largest
+  /// internal force of its converged states (docs/effects.md §2).
+  void set_force_floor(double floor) { force_floor_ = floor; }
+  double force_floor() const { return force_floor_; }
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
   int step() const { return step_; }
@@ -241,6 +266,7 @@ class StaticSolver {
   struct Solvers;
   std::shared_ptr<Solvers> solvers_;
   InadmissibleHandler inadmissible_;
+  double force_floor_ = 0.0;
 };
 
 }  // namespace pdcg::solver

@@ -103,6 +103,12 @@ struct RuptureOptions {
   /// next passes), in (0, 1]; smaller values follow the continuous softening path more
   /// closely (docs/fracture.md §6.2).
   double max_damage_increment = 1.0;
+  /// Quasi-static re-equilibrium when Newton fails at fixed load (docs/effects.md §2):
+  /// pseudo-transient continuation (StaticSolver::pseudo_transient) first, with at most
+  /// continuation_iterations factorisations, then adaptive dynamic relaxation; false: ADR
+  /// only (the scheme before pseudo-transient continuation, kept for comparisons).
+  bool pseudo_transient = true;
+  int continuation_iterations = 100;
 };
 
 struct RupturePass {
@@ -117,6 +123,20 @@ struct RupturePass {
   /// largest damage increment of the pass
   std::size_t damaged = 0;
   double max_damage_increment = 0.0;
+};
+
+/// Work of the staggered re-equilibration at one load (Rupture::stagger), for the log and
+/// the benchmarks: Newton iterations (converged and failed solves), factorisations of the
+/// pseudo-transient continuation, ADR iterations, passes that needed a fallback, wall time.
+struct StaggerCost {
+  int passes = 0;
+  int newton_iterations = 0;
+  int failed_newton_iterations = 0;  ///< of newton_iterations: in solves that failed
+  int continuation_iterations = 0;
+  int relaxation_iterations = 0;
+  int continuation_passes = 0;  ///< passes that Newton failed and the continuation resolved
+  int relaxation_passes = 0;    ///< passes that needed ADR
+  double seconds = 0.0;
 };
 
 class Rupture {
@@ -146,6 +166,9 @@ class Rupture {
   /// bond breaks. Returns the number of bonds broken. Throws NumericalError if the
   /// re-solve fails (unstable crack growth) or max_passes is exceeded.
   std::size_t stagger(StaticSolver& solver);
+  /// Work of the last stagger call, and summed over all calls.
+  const StaggerCost& last_stagger_cost() const { return last_cost_; }
+  const StaggerCost& total_stagger_cost() const { return total_cost_; }
   /// After Discretization::break_bond calls: rebuilds the touched stencils and parks
   /// the points nothing couples any more at their displacement u. Returns stencils rebuilt.
   std::size_t commit(const Eigen::VectorXd& u);
@@ -222,6 +245,8 @@ class Rupture {
   mutable std::vector<double> energy_last_, y_pair_;
   std::vector<double> psi_ref_;
   std::vector<char> to_break_;
+  StaggerCost last_cost_, total_cost_;
+  double peak_force_ = 0.0;  // largest ‖f_int‖ of a converged state seen by stagger
 };
 
 }  // namespace pdcg::solver

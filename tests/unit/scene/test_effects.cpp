@@ -229,3 +229,17 @@ TEST(Effects, OutputsOnlyWhatTheSceneAsksFor) {
   ss << x.rdbuf();
   EXPECT_TRUE(has(ss.str(), "/fields/damage"));
 }
+
+// rupture.fallback (docs/effects.md §2, "Unstable passes"): pseudo-transient continuation
+// then ADR by default, ADR only on request; a bad value names the choices.
+TEST(Effects, RuptureFallbackKey) {
+  const auto s0 = scene::load_scene(
+      write("fb0.yaml", std::string(kBase) + "effects: [rupture]\nrupture: {critical: 2}\n"));
+  EXPECT_TRUE(s0.rupture_options.pseudo_transient);
+  const auto s1 = scene::load_scene(write(
+      "fb1.yaml",
+      std::string(kBase) + "effects: [rupture]\nrupture: {critical: 2, fallback: relaxation}\n"));
+  EXPECT_FALSE(s1.rupture_options.pseudo_transient);
+  const auto e = error_of("effects: [rupture]\nrupture: {critical: 2, fallback: newton}\n");
+  EXPECT_TRUE(has(e, "rupture.fallback") && has(e, "pseudo_transient, relaxation")) << e;
+}
