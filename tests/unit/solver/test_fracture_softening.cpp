@@ -27,8 +27,9 @@ TEST(FractureSoftening, LinearLawDissipatesTheCriticalEnergyDensity) {
     }
     // 1-D: stress (1 − d)·e is linear in e = √κ between e₀ and e_f
     const double e0 = std::sqrt(k0), ef = std::sqrt(kf), em = 0.5 * (e0 + ef);
-    if (rho < 1)
+    if (rho < 1) {
       EXPECT_NEAR((1 - linear_softening_damage(em * em, psi_c, rho)) * em, 0.5 * e0, 1e-12 * e0);
+    }
     // midpoint rule in e (dκ = 2e de), n = 200000 cells over [0, e_f]: error O(1/n²)
     const int n = 200000;
     double w = 0;
