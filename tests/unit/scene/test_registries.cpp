@@ -242,10 +242,10 @@ TEST(Registries, ListBuiltInsFirstThenRegistered) {
   EXPECT_EQ(scene::valid_effects(), scene::registered_effects());
   EXPECT_EQ(scene::registered_materials(),
             (std::vector<std::string>{"neo-hookean", "cauchy-born", "st-venant-kirchhoff"}));
-  // the numeric rules: the built-in components' 43 (one per row of test_scene_checks.cpp) and
+  // the numeric rules: the built-in components' 46 (one per row of test_scene_checks.cpp) and
   // this file's 3, each path once
   const auto rules = scene::number_rules();
-  EXPECT_EQ(rules.size(), 43u + 3u);
+  EXPECT_EQ(rules.size(), 46u + 3u);
   std::set<std::string> paths;
   for (const auto& r : rules) EXPECT_TRUE(paths.insert(r.path).second) << r.path;
   EXPECT_TRUE(paths.count("material.lambda") && paths.count("strain_probe.scale"));

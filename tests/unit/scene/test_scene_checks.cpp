@@ -83,6 +83,17 @@ boundary:
 effects: [rupture]
 rupture: {criterion: fracture_energy, G_c: 1.5}
 )";
+// the softening (cohesive) law of the fracture-energy criterion (docs/fracture.md §6)
+const char* kSoftening = R"(dimension: 2
+geometry: {size: [1.0, 0.5], spacing: 0.1}
+material: {shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
+boundary:
+  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0, y: 0.0}}
+  - {name: right, region: {x_min: 1.0}, displacement: {x: "0.01*t"}}
+effects: [rupture]
+rupture: {criterion: fracture_energy, G_c: 1.5, softening: linear, elastic_limit: 0.1,
+          damage_tolerance: 0.001, max_damage_increment: 0.5}
+)";
 const char* kSurfaceEnergy = R"(dimension: 2
 geometry: {size: [1.0, 0.5], spacing: 0.1}
 material: {shear_modulus: 1.0, bulk_modulus: 10.0, density: 1.0}
@@ -175,6 +186,12 @@ const std::vector<Case>& cases() {
       {kStatic, "critical: 2.5", "critical: {}", "rupture.critical", with(kReal, {"0", "-2"})},
       {kStatic, "max_passes: 5", "max_passes: {}", "rupture.max_passes", with(kInt, {"0"})},
       {kFractureEnergy, "G_c: 1.5", "G_c: {}", "rupture.G_c", with(kReal, {"0", "-2"})},
+      {kSoftening, "elastic_limit: 0.1", "elastic_limit: {}", "rupture.elastic_limit",
+       with(kReal, {"0", "-0.1", "1.5"})},
+      {kSoftening, "damage_tolerance: 0.001", "damage_tolerance: {}", "rupture.damage_tolerance",
+       with(kReal, {"0", "1", "2"})},
+      {kSoftening, "max_damage_increment: 0.5", "max_damage_increment: {}",
+       "rupture.max_damage_increment", with(kReal, {"0", "-0.5", "1.5"})},
       {kSurfaceEnergy, "surface_energy: 0.75", "surface_energy: {}", "rupture.surface_energy",
        with(kReal, {"0", "-2"})},
       {kDynamic, "time_step: auto, safety: 0.8", "time_step: {}", "inertia.time_step",
@@ -208,13 +225,13 @@ std::string substitute(const Case& c, const std::string& bad) {
 }  // namespace
 
 TEST(SceneChecks, BaseScenesAreValid) {
-  for (const char* base : {kStatic, kDynamic, k3D, kFractureEnergy, kSurfaceEnergy})
+  for (const char* base : {kStatic, kDynamic, k3D, kFractureEnergy, kSurfaceEnergy, kSoftening})
     EXPECT_NO_THROW(scene::load_scene(write("base.yaml", base))) << base;
 }
 
 TEST(SceneChecks, EveryNumericKeyRefusesBadValuesWithFileLineAndKey) {
   EXPECT_EQ(cases().size(),
-            43u);  // one row per numeric rule of the built-in components (scene::number_rules)
+            46u);  // one row per numeric rule of the built-in components (scene::number_rules)
   for (const auto& c : cases()) {
     ASSERT_EQ(std::string(c.base).find(c.find), std::string(c.base).rfind(c.find))
         << "not unique: " << c.find;
