@@ -143,7 +143,7 @@ grep -E '^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|Total Test time' "$log"
 # three times in all, and its verdict is that of the first run the tracer completes.
 verdict_of() {
   awk -v root="$PDCG_ROOT" '
-  match($0, /Test +#[0-9]+: /) && /\*\*\*|Failed|Timeout|Exception|Not Run/ && !/Passed/ {
+  match($0, /Test +#[0-9]+: /) && /\*\*\*|Failed|Timeout|Exception|Not Run/ && !/Passed/ && !/\(Disabled\)/ {
     n = substr($0, RSTART, RLENGTH); gsub(/[^0-9]/, "", n); failed[n] = $0; next }
   $1 ~ /^[0-9]+:$/ { t = substr($1, 1, length($1) - 1)
     if ($0 ~ /runtime error|ERROR: AddressSanitizer|\[  FAILED  \]|Failure$|terminate called|Segmentation/) real[t] = 1
