@@ -83,6 +83,21 @@ inline ImposedResult kfield_imposed(double m, double L_over_delta) {
   return {1.0 / v[qm], x[i], x[fam.index[qm]]};
 }
 
+/// The crack tip: the largest x at which a broken bond crosses the crack plane y = 0.
+inline double kfield_crack_tip(const Discretization& body) {
+  const auto& x = body.positions();
+  const Csr& fam = body.families();
+  double a = 0;
+  for (std::size_t i = 0; i < body.size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q) {
+      const int j = fam.index[q];
+      if (!body.broken(q) || !(x[i].y() < 0 && x[j].y() > 0)) continue;
+      const double s = -x[i].y() / (x[j].y() - x[i].y());
+      a = std::max(a, x[i].x() + s * (x[j].x() - x[i].x()));
+    }
+  return a;
+}
+
 struct KfieldEvent {
   double K_over_Kc = 0;  // applied K / K_c at this event (bonds broke)
   double tip = 0;        // crack tip after it: largest x where a broken bond crosses y = 0
@@ -164,17 +179,7 @@ inline KfieldResult kfield(double m, double L_over_delta, double a_max_over_delt
     solver->advance_to(K);
   };
   const Csr& fam = body.families();
-  auto tip = [&] {
-    double a = 0;
-    for (std::size_t i = 0; i < body.size(); ++i)
-      for (auto q = fam.begin(i); q < fam.end(i); ++q) {
-        const int j = fam.index[q];
-        if (!body.broken(q) || !(x[i].y() < 0 && x[j].y() > 0)) continue;
-        const double s = -x[i].y() / (x[j].y() - x[i].y());
-        a = std::max(a, x[i].x() + s * (x[j].x() - x[i].x()));
-      }
-    return a;
-  };
+  auto tip = [&] { return kfield_crack_tip(body); };
   KfieldResult out;
   out.delta = delta;
   out.L = L;
@@ -284,17 +289,7 @@ inline KfieldResult kfield_softening(double m, double L_over_delta, double a_max
     solver->advance_to(K);
   };
   const Csr& fam = body.families();
-  auto tip = [&] {
-    double a = 0;
-    for (std::size_t i = 0; i < body.size(); ++i)
-      for (auto q = fam.begin(i); q < fam.end(i); ++q) {
-        const int j = fam.index[q];
-        if (!body.broken(q) || !(x[i].y() < 0 && x[j].y() > 0)) continue;
-        const double s = -x[i].y() / (x[j].y() - x[i].y());
-        a = std::max(a, x[i].x() + s * (x[j].x() - x[i].x()));
-      }
-    return a;
-  };
+  auto tip = [&] { return kfield_crack_tip(body); };
   auto vmax = [&] {
     double v = 0;
     for (double c : rup.criterion_values(solver->displacement())) v = std::max(v, c);
