@@ -30,7 +30,7 @@ std::unique_ptr<Potential> make_lammps_potential(const PotentialSpec& spec) {
       .line(spec.pair_style_line)
       .key("pair_style")
       .value(spec.pair_style)
-      .expected("lj/cut, morse, zero, eam, eam/alloy or eam/fs")
+      .expected("a native style (" + native_pair_style_names() + ")")
       .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
 }
 #else
@@ -428,7 +428,7 @@ std::unique_ptr<Potential> make_lammps_potential(const PotentialSpec& spec) {
           .line(spec.bond_style_line)
           .key("bond_style")
           .value(spec.bond_style)
-          .expected("harmonic, fene or zero");
+          .expected(native_bond_style_names());
     const bool coulomb = spec.pair_style.find("coul") != std::string::npos ||
                          spec.pair_style.find("tip4p") != std::string::npos;
     if (coulomb && spec.special_lj != spec.special_coul)

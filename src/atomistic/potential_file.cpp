@@ -133,10 +133,6 @@ int max_type_in(std::string_view token) {
   return m;
 }
 
-const std::set<std::string, std::less<>> kNativePair{"lj/cut",    "morse",  "zero", "eam",
-                                                     "eam/alloy", "eam/fs", "sw",   "tersoff"};
-const std::set<std::string, std::less<>> kNativeBond{"harmonic", "fene", "zero"};
-
 /// Pair styles whose pair_coeff starts with `* * FILE` or `I J FILE` (tabulated/many-body).
 bool style_takes_file(std::string_view style) {
   // styles whose first non-numeric coefficient is not a file (element or model names)
@@ -226,9 +222,6 @@ void check_file_units(const PotentialSpec& spec) {
 }  // namespace
 
 bool lammps_available() { return PDCG_ENABLE_LAMMPS != 0; }
-
-bool native_pair_style(std::string_view style) { return kNativePair.count(style) > 0; }
-bool native_bond_style(std::string_view style) { return kNativeBond.count(style) > 0; }
 
 std::optional<std::string> find_potential_file(std::string_view name) {
   if (name.empty()) return std::nullopt;
@@ -385,7 +378,7 @@ void require_supported_styles(const PotentialSpec& spec, bool lammps_enabled) {
         .line(spec.pair_style_line)
         .key("pair_style")
         .value(spec.pair_style)
-        .expected("a native style (lj/cut, morse, zero, eam, eam/alloy, eam/fs, sw, tersoff)")
+        .expected("a native style (" + native_pair_style_names() + ")")
         .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON (liblammps), or use a native style");
   if (!spec.bond_style.empty() && !native_bond_style(spec.bond_style) && !lammps_enabled)
     throw InputError("bond style needs embedded LAMMPS, which this build does not have")
@@ -393,7 +386,7 @@ void require_supported_styles(const PotentialSpec& spec, bool lammps_enabled) {
         .line(spec.bond_style_line)
         .key("bond_style")
         .value(spec.bond_style)
-        .expected("a native bond style (harmonic, fene, zero)")
+        .expected("a native bond style (" + native_bond_style_names() + ")")
         .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON (liblammps), or use a native style");
 }
 

@@ -453,24 +453,37 @@ struct BondTable {
   }
 };
 
+/// The native bond styles, one line each (docs/potentials.md); any other bond style goes through
+/// embedded LAMMPS.
+struct NativeBondStyle {
+  std::string_view name;
+  BondTable::Style style;
+};
+constexpr NativeBondStyle kNativeBondStyles[] = {
+    {"harmonic", BondTable::Style::harmonic},
+    {"fene", BondTable::Style::fene},
+    {"zero", BondTable::Style::zero},
+};
+
+const NativeBondStyle* find_native_bond_style(std::string_view name) {
+  for (const auto& e : kNativeBondStyles)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
 BondTable build_bonds(const PotentialSpec& spec) {
   BondTable bt;
   if (spec.bond_style.empty()) return bt;
-  using S = BondTable::Style;
-  if (spec.bond_style == "harmonic")
-    bt.style = S::harmonic;
-  else if (spec.bond_style == "fene")
-    bt.style = S::fene;
-  else if (spec.bond_style == "zero")
-    bt.style = S::zero;
-  else
+  const auto* entry = find_native_bond_style(spec.bond_style);
+  if (!entry)
     throw InputError("bond style has no native implementation")
         .source(spec.source)
         .line(spec.bond_style_line)
         .key("bond_style")
         .value(spec.bond_style)
-        .expected("harmonic, fene or zero")
+        .expected(native_bond_style_names())
         .fix("evaluate this model through embedded LAMMPS (LammpsEngine)");
+  bt.style = entry->style;
   int maxtype = 1;
   for (const auto& c : spec.bond_coeff) {
     int lo, hi;
@@ -489,11 +502,11 @@ BondTable build_bonds(const PotentialSpec& spec) {
             .value(c.line)
             .expected(u);
     };
-    if (bt.style == S::harmonic) {
+    if (bt.style == BondTable::Style::harmonic) {
       usage(2, "bond_coeff N K R0");
       k.k = number(spec, c, 0, "K", "bond_coeff");
       k.r0 = number(spec, c, 1, "r0", "bond_coeff");
-    } else if (bt.style == S::fene) {
+    } else if (bt.style == BondTable::Style::fene) {
       usage(4, "bond_coeff N K R0 EPSILON SIGMA");
       k.k = number(spec, c, 0, "K", "bond_coeff");
       k.r0 = number(spec, c, 1, "R0", "bond_coeff");
@@ -917,7 +930,70 @@ class EamModel final : public Potential {
   EamView view_;
 };
 
+template <class Law, auto build_table>
+std::unique_ptr<Potential> make_pair_model(const PotentialSpec& spec, BondTable&& bonds) {
+  double cutmax = 0.0;
+  auto table = build_table(spec, cutmax);
+  return std::make_unique<PairModel<Law>>(spec, std::move(table), cutmax, std::move(bonds));
+}
+
+std::unique_ptr<Potential> make_eam_model(const PotentialSpec& spec, BondTable&& bonds) {
+  return std::make_unique<EamModel>(spec, build_eam_tables(spec), std::move(bonds));
+}
+
+template <std::unique_ptr<Potential> (*make_manybody)(const PotentialSpec&)>
+std::unique_ptr<Potential> make_manybody_model(const PotentialSpec& spec, BondTable&& bonds) {
+  if (bonds.active())
+    throw InputError("molecular bonds with a three-body or bond-order pair style are not native")
+        .source(spec.source)
+        .line(spec.bond_style_line)
+        .key("bond_style")
+        .value(spec.bond_style)
+        .expected("pair_style " + spec.pair_style + " without bond_style")
+        .fix("drop the bond_style (sw and tersoff need no bonds)");
+  return make_manybody(spec);
+}
+
+/// The native pair styles, one line each (docs/potentials.md): the name LAMMPS gives the
+/// style and the factory of its Potential. Every other style goes through embedded LAMMPS
+/// (make_lammps_potential); the names listed in messages come from this table.
+struct NativePairStyle {
+  std::string_view name;
+  std::unique_ptr<Potential> (*make)(const PotentialSpec&, BondTable&&);
+};
+constexpr NativePairStyle kNativePairStyles[] = {
+    {"lj/cut", make_pair_model<LJCut, build_lj>},
+    {"morse", make_pair_model<Morse, build_morse>},
+    {"zero", make_pair_model<Zero, build_zero>},
+    {"eam", make_eam_model},
+    {"eam/alloy", make_eam_model},
+    {"eam/fs", make_eam_model},
+    {"sw", make_manybody_model<detail::make_stillinger_weber>},
+    {"tersoff", make_manybody_model<detail::make_tersoff>},
+};
+
+const NativePairStyle* find_native_pair_style(std::string_view name) {
+  for (const auto& e : kNativePairStyles)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+template <class Table>
+std::string names_of(const Table& table) {
+  std::string out;
+  for (const auto& e : table) {
+    if (!out.empty()) out += ", ";
+    out += e.name;
+  }
+  return out;
+}
+
 }  // namespace
+
+bool native_pair_style(std::string_view style) { return find_native_pair_style(style) != nullptr; }
+bool native_bond_style(std::string_view style) { return find_native_bond_style(style) != nullptr; }
+std::string native_pair_style_names() { return names_of(kNativePairStyles); }
+std::string native_bond_style_names() { return names_of(kNativeBondStyles); }
 
 std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
   if (spec.ntypes <= 0)
@@ -932,37 +1008,12 @@ std::unique_ptr<Potential> make_potential(const PotentialSpec& spec) {
         .expected("at least one interaction style");
   BondTable bonds = build_bonds(spec);
   const std::string& ps = spec.pair_style;
-  double cutmax = 0.0;
-  if (ps == "lj/cut") {
-    auto table = build_lj(spec, cutmax);
-    return std::make_unique<PairModel<LJCut>>(spec, std::move(table), cutmax, std::move(bonds));
-  }
-  if (ps == "morse") {
-    auto table = build_morse(spec, cutmax);
-    return std::make_unique<PairModel<Morse>>(spec, std::move(table), cutmax, std::move(bonds));
-  }
-  if (ps == "zero") {
-    auto table = build_zero(spec, cutmax);
-    return std::make_unique<PairModel<Zero>>(spec, std::move(table), cutmax, std::move(bonds));
-  }
   if (ps.empty()) {
     // bonds only: no pair interaction; cutoff 0 (families hold the molecular bonds only)
     TypeTable<Zero::Coeff> table(spec.ntypes);
     return std::make_unique<PairModel<Zero>>(spec, std::move(table), 0.0, std::move(bonds));
   }
-  if (ps == "eam" || ps == "eam/alloy" || ps == "eam/fs")
-    return std::make_unique<EamModel>(spec, build_eam_tables(spec), std::move(bonds));
-  if (ps == "sw" || ps == "tersoff") {
-    if (bonds.active())
-      throw InputError("molecular bonds with a three-body or bond-order pair style are not native")
-          .source(spec.source)
-          .line(spec.bond_style_line)
-          .key("bond_style")
-          .value(spec.bond_style)
-          .expected("pair_style " + ps + " without bond_style")
-          .fix("drop the bond_style (sw and tersoff need no bonds)");
-    return ps == "sw" ? detail::make_stillinger_weber(spec) : detail::make_tersoff(spec);
-  }
+  if (const auto* entry = find_native_pair_style(ps)) return entry->make(spec, std::move(bonds));
   require_supported_styles(spec);
   // Any other style LAMMPS knows: force states by central differences of LAMMPS's per-atom
   // energies on clusters (include/pdcg/atomistic/lammps_potential.hpp).

@@ -84,6 +84,10 @@ bool lammps_available();
 bool native_pair_style(std::string_view style);
 /// True for bond styles pdcg evaluates natively.
 bool native_bond_style(std::string_view style);
+/// The native pair styles, comma separated, for messages ("lj/cut, morse, …").
+std::string native_pair_style_names();
+/// The native bond styles, comma separated.
+std::string native_bond_style_names();
 
 /// Throws InputError (naming the pair_style/bond_style line) when `spec` uses a style that is
 /// neither native nor available through embedded LAMMPS (`lammps_enabled` false).
