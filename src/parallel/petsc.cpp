@@ -14,6 +14,7 @@
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
+#include "pdcg/solver/explicit.hpp"
 
 namespace pdcg::parallel {
 
@@ -60,8 +61,16 @@ void rcb(const std::vector<Vec3>& x, int dim, std::vector<int>::iterator b,
 
 class PetscDistribution final : public solver::Distribution {
  public:
-  PetscDistribution(Model& model, LinearSolver linear);
+  /// with_matrix false: the force sum only (explicit dynamics), no tangent pattern read
+  PetscDistribution(Model& model, LinearSolver linear, bool with_matrix = true);
   ~PetscDistribution() override;
+  /// Entries exchanged by one sum(): sent (ghost points' partial sums to their owners) and
+  /// received (the points owned elsewhere, by the copy to every process), over all processes.
+  struct Traffic {
+    long long ghost_entries = 0, copy_entries = 0;
+  };
+  Traffic traffic() const;
+  std::size_t owned_point_count() const { return owned_points_.size(); }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   bool owns_point(int k) const override { return owner_[static_cast<std::size_t>(k)] == rank_; }
@@ -85,6 +94,7 @@ class PetscDistribution final : public solver::Distribution {
   std::vector<int> point_order_;    // PETSc order of the points (process by process)
   std::vector<PetscInt> point_at_;  // point -> its position in point_order_
   std::vector<int> touched_;        // owned + ghost points (this process's partial sums)
+  std::size_t ghosts_written_ = 0;  // of touched_: owned by other processes
   // full adjacency rows of the owned points, in original point order
   std::vector<std::int64_t> adj_off_;
   std::vector<int> adj_idx_;
@@ -109,7 +119,7 @@ class PetscDistribution final : public solver::Distribution {
   std::vector<PetscScalar> vals_;
 };
 
-PetscDistribution::PetscDistribution(Model& model, LinearSolver linear)
+PetscDistribution::PetscDistribution(Model& model, LinearSolver linear, bool with_matrix)
     : d_(model.dimension()),
       npoints_(model.body().size()),
       linear_(linear),
@@ -135,7 +145,7 @@ PetscDistribution::PetscDistribution(Model& model, LinearSolver linear)
     }
   // The tangent's row pattern of the owned points (for the preallocation) from the
   // unrestricted model: every stencil and weak row of every process adds to those rows.
-  {
+  if (with_matrix) {
     const solver::Csr& adj = model.point_adjacency();
     adj_off_.assign(1, 0);
     for (int k : owned_points_) {
@@ -167,7 +177,9 @@ PetscDistribution::PetscDistribution(Model& model, LinearSolver linear)
       }
     }
   }
-  std::size_t ghosts_written = 0, ghosts_read = 0;
+  ghosts_written_ = 0;
+  std::size_t ghosts_read = 0;
+  std::size_t& ghosts_written = ghosts_written_;
   for (std::size_t k = 0; k < npoints_; ++k) {
     if (touched[k]) touched_.push_back(static_cast<int>(k));
     if (!owned[k]) {
@@ -220,6 +232,14 @@ void PetscDistribution::sum(Eigen::VectorXd& v) {
     for (int a = 0; a < d_; ++a)
       v[static_cast<Eigen::Index>(d_ * k + a)] = all[d_ * point_at_[k] + a];
   check(VecRestoreArrayRead(fall_, &all), "VecRestoreArrayRead");
+}
+
+PetscDistribution::Traffic PetscDistribution::traffic() const {
+  long long mine[2] = {static_cast<long long>(d_ * ghosts_written_),
+                       static_cast<long long>(d_ * (npoints_ - owned_points_.size()))};
+  long long all[2] = {0, 0};
+  MPI_Allreduce(mine, all, 2, MPI_LONG_LONG, MPI_SUM, comm_);
+  return {all[0], all[1]};
 }
 
 void PetscDistribution::sum_scalars(Eigen::VectorXd& v) {
@@ -465,6 +485,66 @@ void PetscDistribution::check_options_left(bool skip_viewers) {
         .fix("correct or remove the option");
 }
 
+/// Explicit dynamics on several processes (docs/scale-out.md §6). The whole Model stays with
+/// the ExplicitSolver (the stable step, the rupture criterion, the outputs); the force is
+/// evaluated by a second Model on the same body restricted to this process's stencils and
+/// weak rows, and summed over the processes by the Newton run's PetscDistribution::sum (the
+/// ghost points' partial sums added into their owners' entries, then the assembled vector
+/// copied to every process). Broken bonds: the body and its broken flags are replicated, and
+/// every process decides the same bonds from the same bits of u; after each break event the
+/// restricted stencils are copied again from the rebuilt body and the broken counts are
+/// compared across the processes.
+class PetscForceExchange final : public solver::ForceExchange {
+ public:
+  explicit PetscForceExchange(const Model& whole)
+      : part_(std::make_unique<Model>(whole.body(), whole.material(), whole.options())),
+        sum_(*part_, LinearSolver::mumps, false) {
+    const std::size_t n = whole.body().size();
+    owned_.assign(n, 0);
+    for (std::size_t k = 0; k < n; ++k) owned_[k] = sum_.owns_point(static_cast<int>(k)) ? 1 : 0;
+    const auto t = sum_.traffic();
+    const auto bytes =
+        t.ghost_entries * static_cast<long long>(sizeof(PetscScalar) + sizeof(PetscInt)) +
+        t.copy_entries * static_cast<long long>(sizeof(PetscScalar));
+    log::info(
+        "explicit dynamics on {} MPI processes: per force evaluation {} partial sums of ghost "
+        "points sent to their owners, {} entries copied to the processes that do not own them "
+        "(≈ {} kB over all processes)",
+        sum_.size(), t.ghost_entries, t.copy_entries, (bytes + 512) / 1024);
+  }
+  bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) override {
+    const int mine = part_->internal_force(u, f) ? 1 : 0;
+    int all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    if (!all) return false;
+    sum_.sum(f);
+    return true;
+  }
+  void stencils_rebuilt() override {
+    part_->restrict_evaluation(owned_);
+    const auto& body = part_->body();
+    const long long mine[2] = {static_cast<long long>(body.broken_bonds()),
+                               -static_cast<long long>(body.broken_bonds())};
+    long long ext[2] = {0, 0};  // max, −min
+    MPI_Allreduce(mine, ext, 2, MPI_LONG_LONG, MPI_MAX, PETSC_COMM_WORLD);
+    if (ext[0] != -ext[1])
+      throw Error(
+          fmt::format("internal error: the processes broke different bonds ({} to {} broken bonds)",
+                      -ext[1], ext[0]));
+  }
+  double energy(const Eigen::VectorXd& u) override {
+    const double mine = part_->energy(u);
+    double all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    return all;
+  }
+
+ private:
+  std::unique_ptr<Model> part_;
+  PetscDistribution sum_;
+  std::vector<char> owned_;
+};
+
 }  // namespace
 
 bool launched_by_mpirun() {
@@ -522,6 +602,10 @@ std::shared_ptr<solver::Distribution> distribute(Model& model, LinearSolver line
   return std::make_shared<PetscDistribution>(model, linear);
 }
 
+std::unique_ptr<solver::ForceExchange> distribute_explicit(const Model& model) {
+  return std::make_unique<PetscForceExchange>(model);
+}
+
 }  // namespace pdcg::parallel
 
 extern "C" const pdcg::parallel::Api* pdcg_parallel_api() {
@@ -538,6 +622,7 @@ extern "C" const pdcg::parallel::Api* pdcg_parallel_api() {
       [](void* s) { delete static_cast<Session*>(s); },
       &Session::abort,
       &distribute,
+      &distribute_explicit,
   };
   return &api;
 }
