@@ -38,7 +38,7 @@ void refuse_distributed(const Scene& s, const RunOptions& ro) {
   // the quasi-static rupture and the other effects do not
   if (s.rupture && !s.inertia) refuse("rupture of a quasi-static run", "effects");
   for (const auto& e : s.effects)
-    if (e != "inertia" && e != "rupture") refuse("effect '" + e + "'", "effects");
+    if (e != "inertia" && e != "rupture" && e != "damping") refuse("effect '" + e + "'", "effects");
   if (s.rupture && s.rupture_options.softening != solver::RuptureSoftening::none)
     refuse("the softening failure law", "rupture.softening");
   if (s.newton.matrix_free) refuse("the matrix-free GMRES", "solver.matrix_free");
