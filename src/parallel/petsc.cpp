@@ -71,7 +71,12 @@ class PetscDistribution final : public solver::Distribution {
     long long ghost_entries = 0, copy_entries = 0;
   };
   Traffic traffic() const;
-  std::size_t owned_point_count() const { return owned_points_.size(); }
+  /// This process's points (increasing index: their PETSc order), and the points its
+  /// stencils and weak rows write (owned and ghost points, increasing index).
+  const std::vector<int>& owned_points() const { return owned_points_; }
+  const std::vector<int>& touched_points() const { return touched_; }
+  /// Position of point k in the PETSc order (process by process).
+  PetscInt petsc_position(int k) const { return point_at_[static_cast<std::size_t>(k)]; }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   bool owns_point(int k) const override { return owner_[static_cast<std::size_t>(k)] == rank_; }
@@ -489,31 +494,53 @@ void PetscDistribution::check_options_left(bool skip_viewers) {
 /// Explicit dynamics on several processes (docs/scale-out.md §6). The whole Model stays with
 /// the ExplicitSolver (the stable step, the rupture criterion, the outputs); the force is
 /// evaluated by a second Model on the same body restricted to this process's stencils and
-/// weak rows, and summed over the processes by the Newton run's PetscDistribution::sum (the
-/// ghost points' partial sums added into their owners' entries, then the assembled vector
-/// copied to every process). Broken bonds: the body and its broken flags are replicated, and
-/// every process decides the same bonds from the same bits of u; after each break event the
+/// weak rows (the partition and ownership of PetscDistribution), and summed over the processes
+/// through a ghosted PETSc vector: its local form is [owned points | ghost points], a reverse
+/// ghost update adds the ghosts' partial sums into their owners' entries, and the assembled
+/// vector is copied to every process. Broken bonds: the body and its broken flags are replicated,
+/// and every process decides the same bonds from the same bits of u; after each break event the
 /// restricted stencils are copied again from the rebuilt body and the broken counts are
 /// compared across the processes.
 class PetscForceExchange final : public solver::ForceExchange {
  public:
   explicit PetscForceExchange(const Model& whole)
       : part_(std::make_unique<Model>(whole.body(), whole.material(), whole.options())),
-        sum_(*part_, LinearSolver::mumps, false) {
+        sum_(*part_, LinearSolver::mumps, false),
+        d_(whole.dimension()) {
     const std::size_t n = whole.body().size();
     owned_.assign(n, 0);
     for (std::size_t k = 0; k < n; ++k) owned_[k] = sum_.owns_point(static_cast<int>(k)) ? 1 : 0;
+    // The index sets of the exchange: owned points (local entries [0, d·owned)), ghost points
+    // (the points this process's stencils write that others own; local entries after them).
+    owned_points_ = sum_.owned_points();
+    std::vector<PetscInt> ghost_rows;
+    for (int k : sum_.touched_points())
+      if (!owned_[static_cast<std::size_t>(k)]) {
+        ghost_points_.push_back(k);
+        for (int a = 0; a < d_; ++a) ghost_rows.push_back(d_ * sum_.petsc_position(k) + a);
+      }
+    check(VecCreateGhost(PETSC_COMM_WORLD, static_cast<PetscInt>(d_ * owned_points_.size()),
+                         PETSC_DECIDE, static_cast<PetscInt>(ghost_rows.size()), ghost_rows.data(),
+                         &force_),
+          "VecCreateGhost");
+    check(VecScatterCreateToAll(force_, &to_all_, &force_all_), "VecScatterCreateToAll");
+    position_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) position_[k] = sum_.petsc_position(static_cast<int>(k));
     const auto t = sum_.traffic();
     const auto bytes =
-        t.ghost_entries * static_cast<long long>(sizeof(PetscScalar) + sizeof(PetscInt)) +
-        t.copy_entries * static_cast<long long>(sizeof(PetscScalar));
+        (t.ghost_entries + t.copy_entries) * static_cast<long long>(sizeof(PetscScalar));
     log::info(
         "explicit dynamics on {} MPI processes: per force evaluation {} partial sums of ghost "
         "points sent to their owners, {} entries copied to the processes that do not own them "
         "(≈ {} kB over all processes)",
         sum_.size(), t.ghost_entries, t.copy_entries, (bytes + 512) / 1024);
   }
+  PetscForceExchange(const PetscForceExchange&) = delete;
+  PetscForceExchange& operator=(const PetscForceExchange&) = delete;
   ~PetscForceExchange() override {
+    VecDestroy(&force_);
+    VecDestroy(&force_all_);
+    VecScatterDestroy(&to_all_);
     // this process's own times (no collective call here: a destructor may run while another
     // process has stopped with an error)
     if (evaluations_ > 0)
@@ -533,7 +560,7 @@ class PetscForceExchange final : public solver::ForceExchange {
     const auto t1 = clock::now();
     int all = 0;
     MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
-    if (all) sum_.sum(f);
+    if (all) sum(f);
     ++evaluations_;
     evaluate_seconds_ += std::chrono::duration<double>(t1 - t0).count();
     exchange_seconds_ += std::chrono::duration<double>(clock::now() - t1).count();
@@ -551,6 +578,33 @@ class PetscForceExchange final : public solver::ForceExchange {
           fmt::format("internal error: the processes broke different bonds ({} to {} broken bonds)",
                       -ext[1], ext[0]));
   }
+  /// f: this process's partial sums (on its owned and ghost points) → the sum over the
+  /// processes, the same bits on every process.
+  void sum(Eigen::VectorXd& f) {
+    Vec local = nullptr;
+    check(VecGhostGetLocalForm(force_, &local), "VecGhostGetLocalForm");
+    PetscScalar* x = nullptr;
+    check(VecGetArray(local, &x), "VecGetArray");
+    std::size_t e = 0;
+    for (const auto* points : {&owned_points_, &ghost_points_})
+      for (int k : *points)
+        for (int a = 0; a < d_; ++a) x[e++] = f[static_cast<Eigen::Index>(d_) * k + a];
+    check(VecRestoreArray(local, &x), "VecRestoreArray");
+    check(VecGhostRestoreLocalForm(force_, &local), "VecGhostRestoreLocalForm");
+    // reverse ghost update: the ghosts' partial sums added into their owners' entries
+    check(VecGhostUpdateBegin(force_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+    check(VecGhostUpdateEnd(force_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+    // the assembled force to every process (the replicated state, docs/scale-out.md §6)
+    check(VecScatterBegin(to_all_, force_, force_all_, INSERT_VALUES, SCATTER_FORWARD),
+          "VecScatter");
+    check(VecScatterEnd(to_all_, force_, force_all_, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+    const PetscScalar* all = nullptr;
+    check(VecGetArrayRead(force_all_, &all), "VecGetArrayRead");
+    for (std::size_t k = 0; k < position_.size(); ++k)
+      for (int a = 0; a < d_; ++a)
+        f[static_cast<Eigen::Index>(d_ * k + a)] = all[d_ * position_[k] + a];
+    check(VecRestoreArrayRead(force_all_, &all), "VecRestoreArrayRead");
+  }
   double energy(const Eigen::VectorXd& u) override {
     const double mine = part_->energy(u);
     double all = 0;
@@ -560,8 +614,13 @@ class PetscForceExchange final : public solver::ForceExchange {
 
  private:
   std::unique_ptr<Model> part_;
-  PetscDistribution sum_;
+  PetscDistribution sum_;  // partition, ownership, ghosts (its force sum is the Newton run's)
+  int d_ = 2;
   std::vector<char> owned_;
+  std::vector<int> owned_points_, ghost_points_;  // the index sets of the exchange
+  std::vector<PetscInt> position_;                // point -> PETSc position
+  Vec force_ = nullptr, force_all_ = nullptr;     // ghosted; its copy on every process
+  VecScatter to_all_ = nullptr;
   // CPU time of this process (all its threads): the work, whatever the machine's load
   static double cpu_seconds() {
     timespec t{};
