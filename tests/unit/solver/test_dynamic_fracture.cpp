@@ -42,6 +42,26 @@ double rayleigh_speed_plane_stress(double mu, double K) {
   return 0.5 * (lo + hi) * std::sqrt(cs2);
 }
 
+// The unit sheet's boundary sets: bottom row clamped, top row held in x and pulled in y with the
+// velocity `rate` reached with a rise time 0.5 (a sudden velocity step breaks bonds at the loaded
+// edge's corners before the wave front forms).
+std::vector<DisplacementSet> pulled_sheet(const Discretization& body, double dx, double rate) {
+  std::vector<int> bottom, top;
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    const double y = body.positions()[i].y();
+    if (y < 0.5 * dx + 1e-9) bottom.push_back(static_cast<int>(i));
+    if (y > 1 - 0.5 * dx - 1e-9) top.push_back(static_cast<int>(i));
+  }
+  std::vector<DisplacementSet> ds(2);
+  ds[0] = {"bottom", bottom, {}};
+  ds[0].component[0] = [](double) { return 0.0; };
+  ds[0].component[1] = [](double) { return 0.0; };
+  ds[1] = {"top", top, {}};
+  ds[1].component[0] = [](double) { return 0.0; };
+  ds[1].component[1] = [rate](double t) { return rate * (t - 0.5 * (1 - std::exp(-t / 0.5))); };
+  return ds;
+}
+
 }  // namespace
 
 TEST(DynamicFracture, RayleighSpeedOfTheClosedForm) {
@@ -185,22 +205,7 @@ TEST(DynamicFracture, CrackTipSpeedStaysBelowTheRayleighSpeed) {
   auto body = Discretization::grid(g);
   const auto mat = make_neo_hookean({mu, K}, Kinematics::plane_stress);
   Model model(body, *mat, {});
-  std::vector<int> bottom, top;
-  for (std::size_t i = 0; i < body.size(); ++i) {
-    const double y = body.positions()[i].y();
-    if (y < 0.5 * dx + 1e-9) bottom.push_back(static_cast<int>(i));
-    if (y > 1 - 0.5 * dx - 1e-9) top.push_back(static_cast<int>(i));
-  }
-  std::vector<DisplacementSet> ds(2);
-  ds[0] = {"bottom", bottom, {}};
-  ds[0].component[0] = [](double) { return 0.0; };
-  ds[0].component[1] = [](double) { return 0.0; };
-  ds[1] = {"top", top, {}};
-  ds[1].component[0] = [](double) { return 0.0; };
-  // velocity 0.1 reached with a rise time 0.5 (a sudden velocity step breaks bonds at the
-  // loaded edge's corners before the wave front forms)
-  ds[1].component[1] = [](double t) { return 0.1 * (t - 0.5 * (1 - std::exp(-t / 0.5))); };
-  ExplicitSolver ex(model, ds, {});
+  ExplicitSolver ex(model, pulled_sheet(body, dx, 0.1), {});
   RuptureOptions ro;
   ro.critical = 1.15;
   ro.anchor_detached = false;
@@ -355,20 +360,8 @@ TEST(DynamicFracture, ForceExchangeOfPartsReproducesTheWholeRun) {
   };
   auto start = [&](Run& r) {
     r.model = std::make_unique<Model>(r.body, *mat, ModelOptions{});
-    std::vector<int> bottom, top;
-    for (std::size_t i = 0; i < r.body.size(); ++i) {
-      const double y = r.body.positions()[i].y();
-      if (y < 0.5 * dx + 1e-9) bottom.push_back(static_cast<int>(i));
-      if (y > 1 - 0.5 * dx - 1e-9) top.push_back(static_cast<int>(i));
-    }
-    std::vector<DisplacementSet> ds(2);
-    ds[0] = {"bottom", bottom, {}};
-    ds[0].component[0] = [](double) { return 0.0; };
-    ds[0].component[1] = [](double) { return 0.0; };
-    ds[1] = {"top", top, {}};
-    ds[1].component[0] = [](double) { return 0.0; };
-    ds[1].component[1] = [](double t) { return 0.15 * (t - 0.5 * (1 - std::exp(-t / 0.5))); };
-    r.ex = std::make_unique<ExplicitSolver>(*r.model, ds, ExplicitOptions{});
+    r.ex = std::make_unique<ExplicitSolver>(*r.model, pulled_sheet(r.body, dx, 0.15),
+                                            ExplicitOptions{});
     RuptureOptions ro;
     ro.critical = 1.15;
     ro.anchor_detached = false;
