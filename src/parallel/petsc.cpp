@@ -503,21 +503,27 @@ void PetscDistribution::check_options_left(bool skip_viewers) {
 /// compared across the processes.
 class PetscForceExchange final : public solver::ForceExchange {
  public:
-  explicit PetscForceExchange(const Model& whole)
-      : part_(std::make_unique<Model>(whole.body(), whole.material(), whole.options())),
-        sum_(*part_, LinearSolver::mumps, false),
-        d_(whole.dimension()) {
+  explicit PetscForceExchange(const Model& whole) : whole_(&whole), d_(whole.dimension()) {
+    int processes = 1;
+    MPI_Comm_size(PETSC_COMM_WORLD, &processes);
+    if (processes == 1) {
+      // one process: the whole model is its part; no second Model, nothing to exchange
+      log::info("explicit dynamics on 1 MPI process: the whole model, nothing exchanged");
+      return;
+    }
+    part_ = std::make_unique<Model>(whole.body(), whole.material(), whole.options());
+    sum_ = std::make_unique<PetscDistribution>(*part_, LinearSolver::mumps, false);
     const std::size_t n = whole.body().size();
     owned_.assign(n, 0);
-    for (std::size_t k = 0; k < n; ++k) owned_[k] = sum_.owns_point(static_cast<int>(k)) ? 1 : 0;
+    for (std::size_t k = 0; k < n; ++k) owned_[k] = sum_->owns_point(static_cast<int>(k)) ? 1 : 0;
     // The index sets of the exchange: owned points (local entries [0, d·owned)), ghost points
     // (the points this process's stencils write that others own; local entries after them).
-    owned_points_ = sum_.owned_points();
+    owned_points_ = sum_->owned_points();
     std::vector<PetscInt> ghost_rows;
-    for (int k : sum_.touched_points())
+    for (int k : sum_->touched_points())
       if (!owned_[static_cast<std::size_t>(k)]) {
         ghost_points_.push_back(k);
-        for (int a = 0; a < d_; ++a) ghost_rows.push_back(d_ * sum_.petsc_position(k) + a);
+        for (int a = 0; a < d_; ++a) ghost_rows.push_back(d_ * sum_->petsc_position(k) + a);
       }
     check(VecCreateGhost(PETSC_COMM_WORLD, static_cast<PetscInt>(d_ * owned_points_.size()),
                          PETSC_DECIDE, static_cast<PetscInt>(ghost_rows.size()), ghost_rows.data(),
@@ -525,15 +531,15 @@ class PetscForceExchange final : public solver::ForceExchange {
           "VecCreateGhost");
     check(VecScatterCreateToAll(force_, &to_all_, &force_all_), "VecScatterCreateToAll");
     position_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) position_[k] = sum_.petsc_position(static_cast<int>(k));
-    const auto t = sum_.traffic();
+    for (std::size_t k = 0; k < n; ++k) position_[k] = sum_->petsc_position(static_cast<int>(k));
+    const auto t = sum_->traffic();
     const auto bytes =
         (t.ghost_entries + t.copy_entries) * static_cast<long long>(sizeof(PetscScalar));
     log::info(
         "explicit dynamics on {} MPI processes: per force evaluation {} partial sums of ghost "
         "points sent to their owners, {} entries copied to the processes that do not own them "
         "(≈ {} kB over all processes)",
-        sum_.size(), t.ghost_entries, t.copy_entries, (bytes + 512) / 1024);
+        sum_->size(), t.ghost_entries, t.copy_entries, (bytes + 512) / 1024);
   }
   PetscForceExchange(const PetscForceExchange&) = delete;
   PetscForceExchange& operator=(const PetscForceExchange&) = delete;
@@ -548,25 +554,29 @@ class PetscForceExchange final : public solver::ForceExchange {
           "explicit dynamics, process {}/{}: {} force evaluations, {:.3g} ms each ({:.3g} ms "
           "of CPU) for its stencils, {:.3g} ms for the admissibility vote and the sum over the "
           "processes",
-          sum_.rank(), sum_.size(), evaluations_, 1e3 * evaluate_seconds_ / evaluations_,
-          1e3 * evaluate_cpu_seconds_ / evaluations_, 1e3 * exchange_seconds_ / evaluations_);
+          sum_ ? sum_->rank() : 0, sum_ ? sum_->size() : 1, evaluations_,
+          1e3 * evaluate_seconds_ / evaluations_, 1e3 * evaluate_cpu_seconds_ / evaluations_,
+          1e3 * exchange_seconds_ / evaluations_);
   }
   bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) override {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     const double c0 = cpu_seconds();
-    const int mine = part_->internal_force(u, f) ? 1 : 0;
+    const int mine = (part_ ? *part_ : *whole_).internal_force(u, f) ? 1 : 0;
     evaluate_cpu_seconds_ += cpu_seconds() - c0;
     const auto t1 = clock::now();
-    int all = 0;
-    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
-    if (all) sum(f);
+    int all = mine;
+    if (sum_) {
+      MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+      if (all) sum(f);
+    }
     ++evaluations_;
     evaluate_seconds_ += std::chrono::duration<double>(t1 - t0).count();
     exchange_seconds_ += std::chrono::duration<double>(clock::now() - t1).count();
     return all != 0;
   }
   void stencils_rebuilt() override {
+    if (!part_) return;  // the whole model reads the body's stencils themselves
     part_->restrict_evaluation(owned_);
     const auto& body = part_->body();
     const long long mine[2] = {static_cast<long long>(body.broken_bonds()),
@@ -606,6 +616,7 @@ class PetscForceExchange final : public solver::ForceExchange {
     check(VecRestoreArrayRead(force_all_, &all), "VecRestoreArrayRead");
   }
   double energy(const Eigen::VectorXd& u) override {
+    if (!part_) return whole_->energy(u);
     const double mine = part_->energy(u);
     double all = 0;
     MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
@@ -613,8 +624,10 @@ class PetscForceExchange final : public solver::ForceExchange {
   }
 
  private:
-  std::unique_ptr<Model> part_;
-  PetscDistribution sum_;  // partition, ownership, ghosts (its force sum is the Newton run's)
+  const Model* whole_;
+  std::unique_ptr<Model> part_;  // this process's stencils (null on one process)
+  // partition, ownership, ghosts (its force sum is the Newton run's); null on one process
+  std::unique_ptr<PetscDistribution> sum_;
   int d_ = 2;
   std::vector<char> owned_;
   std::vector<int> owned_points_, ghost_points_;  // the index sets of the exchange
