@@ -1,5 +1,6 @@
 // pdcg::parallel: partition, ownership, ghosts and the PETSc assembly and solve of the
-// distributed quasi-static Newton run (docs/scale-out.md).
+// distributed quasi-static Newton run, and the force exchange of distributed explicit dynamics
+// (docs/scale-out.md).
 #include "pdcg/parallel/petsc.hpp"
 
 #include <fmt/format.h>

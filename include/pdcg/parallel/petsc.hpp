@@ -1,5 +1,6 @@
 /// \file
-/// The quasi-static Newton solver on several MPI processes with PETSc (docs/scale-out.md).
+/// The quasi-static Newton solver and explicit dynamics on several MPI processes with PETSc
+/// (docs/scale-out.md).
 ///
 /// Points are partitioned by recursive coordinate bisection (partition_points); each process
 /// evaluates the energy stencils centred at its points and the weak-form rows of its points
@@ -58,9 +59,11 @@ std::vector<int> partition_points(const std::vector<solver::Vec3>& x, int dimens
 std::shared_ptr<solver::Distribution> distribute(solver::Model& model, solver::LinearSolver linear);
 
 /// Explicit dynamics on the processes of PETSC_COMM_WORLD (docs/scale-out.md §6): the same
-/// partition; a second Model on the model's body evaluates this process's stencils and weak
-/// rows, and the forces are summed over the processes. `model` (the whole one) is not changed;
-/// the result is given to ExplicitSolver::set_force_exchange and must outlive its use.
+/// partition; on several processes a second Model on the model's body evaluates this process's
+/// stencils and weak rows, and the forces are summed over the processes through a ghosted PETSc
+/// vector (on one process the whole model evaluates, nothing is exchanged). `model` (the whole
+/// one) is not changed; the result is given to ExplicitSolver::set_force_exchange and must
+/// outlive its use.
 std::unique_ptr<solver::ForceExchange> distribute_explicit(const solver::Model& model);
 
 /// The module's entry points as one table, for the `pdcg` executable, which loads the module
