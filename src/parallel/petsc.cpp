@@ -61,6 +61,11 @@ void rcb(const std::vector<Vec3>& x, int dim, std::vector<int>::iterator b,
   rcb(x, dim, cut, e, first_part + left, parts - left, owner);
 }
 
+/// Throws InputError naming the PETSc options nothing used (skip_viewers: not those read only
+/// when KSPSolve ends or at PetscFinalize, -ksp_view, -log_view and the like); `expected` says
+/// what the run reads.
+void refuse_unused_options(bool skip_viewers, const std::string& expected);
+
 class PetscDistribution final : public solver::Distribution {
  public:
   /// with_matrix false: the force sum only (explicit dynamics), no tangent pattern read
@@ -467,6 +472,13 @@ bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Ei
 }
 
 void PetscDistribution::check_options_left(bool skip_viewers) {
+  refuse_unused_options(skip_viewers,
+                        fmt::format("options of the KSP/PC of solver.linear: {} (-ksp_*, -pc_*, "
+                                    "-mat_mumps_*; list them with -help)",
+                                    solver::to_string(linear_)));
+}
+
+void refuse_unused_options(bool skip_viewers, const std::string& expected) {
   PetscInt n = 0;
   char** names = nullptr;
   char** values = nullptr;
@@ -486,9 +498,7 @@ void PetscDistribution::check_options_left(bool skip_viewers) {
                                  left.size() == 1 ? "" : "s", fmt::join(left, " ")))
         .key("--petsc-options / PETSC_OPTIONS")
         .value(fmt::format("{}", fmt::join(left, " ")))
-        .expected(fmt::format("options of the KSP/PC of solver.linear: {} (-ksp_*, -pc_*, "
-                              "-mat_mumps_*; list them with -help)",
-                              solver::to_string(linear_)))
+        .expected(expected)
         .fix("correct or remove the option");
 }
 
@@ -510,6 +520,7 @@ class PetscForceExchange final : public solver::ForceExchange {
     if (processes == 1) {
       // one process: the whole model is its part; no second Model, nothing to exchange
       log::info("explicit dynamics on 1 MPI process: the whole model, nothing exchanged");
+      refuse_explicit_options();
       return;
     }
     part_ = std::make_unique<Model>(whole.body(), whole.material(), whole.options());
@@ -541,6 +552,7 @@ class PetscForceExchange final : public solver::ForceExchange {
         "points sent to their owners, {} entries copied to the processes that do not own them "
         "(≈ {} kB over all processes)",
         sum_->size(), t.ghost_entries, t.copy_entries, (bytes + 512) / 1024);
+    refuse_explicit_options();
   }
   PetscForceExchange(const PetscForceExchange&) = delete;
   PetscForceExchange& operator=(const PetscForceExchange&) = delete;
@@ -635,6 +647,12 @@ class PetscForceExchange final : public solver::ForceExchange {
   std::vector<PetscInt> position_;                // point -> PETSc position
   Vec force_ = nullptr, force_all_ = nullptr;     // ghosted; its copy on every process
   VecScatter to_all_ = nullptr;
+  // Explicit dynamics reads no PETSc option: one given is a mistake, refused before the run
+  static void refuse_explicit_options() {
+    refuse_unused_options(true,
+                          "no PETSc options: explicit dynamics uses no PETSc solver (viewers "
+                          "such as -log_view are accepted)");
+  }
   // CPU time of this process (all its threads): the work, whatever the machine's load
   static double cpu_seconds() {
     timespec t{};

@@ -25,7 +25,8 @@
 #                       — the serial run itself moves 2.3e-6 between 1 and 2 OpenMP threads
 #                       (measured 9.2e-8 on 2 processes; docs/scale-out.md §6).
 #       too_many        4 points on 5 processes: refused (exit 2), clear message, nothing written.
-#       bad_option      an unknown PETSc option: refused (exit 2) naming it, nothing written.
+#       bad_option      an unknown PETSc option: refused (exit 2) naming it, nothing written; for
+#                       explicit dynamics, which reads none, too.
 #       refused         checkpointing, quasi-static rupture, another effect, the softening law on
 #                       2 processes: refused (exit 2) naming the key, nothing written.
 # Root (CI): OpenMPI needs OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM), set by ctest (tests/CMakeLists.txt).
@@ -94,6 +95,10 @@ case "$CASE" in
   bad_option)
     expect_refusal "PETSc option not used by the solver: -ksp_no_such_option" "$W/bad" -- \
       mpi 2 "$PDCG" -q run "$HERE/plate.yaml" -o "$W/bad" --petsc-options "-ksp_no_such_option 3"
+    # explicit dynamics reads no PETSc option: any (but a viewer) is refused
+    expect_refusal "PETSc option not used by the solver: -ksp_no_such_option.*explicit dynamics" \
+      "$W/bad_dyn" -- mpi 2 "$PDCG" -q run "$HERE/dynamic_fracture.yaml" -o "$W/bad_dyn" \
+      --petsc-options "-ksp_no_such_option 3"
     ;;
   refused)
     # checkpointing, rupture and explicit dynamics on 2 processes: refused before any work,
