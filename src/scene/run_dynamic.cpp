@@ -49,7 +49,11 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
   }
   std::unique_ptr<solver::ForceExchange> exchange;
   if (ro.distribute_explicit) {
-    exchange = ro.distribute_explicit(model);
+    try {
+      exchange = ro.distribute_explicit(model);
+    } catch (InputError& e) {
+      throw with_line(s, e);  // e.g. a PETSc option explicit dynamics does not read
+    }
     ex->set_force_exchange(exchange.get());
   }
   // Π(u): the model's, or summed over the processes' stencils
