@@ -38,8 +38,8 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->footer(
       "Writes results_NNNN.h5 per output step, results.xdmf (open in ParaView),\n"
       "reactions.csv (dynamic runs: series.csv) and scene.resolved.yaml.\n"
-      "Under mpirun (PETSc build) the quasi-static run is split over the processes and rank 0\n"
-      "writes the outputs (docs/scale-out.md).\n"
+      "Under mpirun (PETSc build) the quasi-static run and explicit dynamics are split over the\n"
+      "processes; rank 0 writes the outputs (docs/scale-out.md).\n"
       "Examples:\n  pdcg run plate.yaml -o out/plate\n"
       "  mpirun -n 2 pdcg run plate.yaml -o out/plate   # two processes, MUMPS\n"
       "  pdcg run bar.yaml --restart out/bar   # continue a killed run from its last checkpoint");
@@ -68,6 +68,9 @@ pdcg::cli::Registration reg(80, [](CLI::App& app) -> pdcg::cli::Runner {
       if (session.rank() != 0) pdcg::log::set_level(pdcg::log::Level::error);
       ro.distribute = [&api](pdcg::solver::Model& m, pdcg::solver::LinearSolver l) {
         return api.distribute(m, l);
+      };
+      ro.distribute_explicit = [&api](const pdcg::solver::Model& m) {
+        return api.distribute_explicit(m);
       };
       if (session.size() == 1) {
         pdcg::scene::run_scene(s, ro);

@@ -1,5 +1,6 @@
 // pdcg::parallel: partition, ownership, ghosts and the PETSc assembly and solve of the
-// distributed quasi-static Newton run (docs/scale-out.md).
+// distributed quasi-static Newton run, and the force exchange of distributed explicit dynamics
+// (docs/scale-out.md).
 #include "pdcg/parallel/petsc.hpp"
 
 #include <fmt/format.h>
@@ -10,10 +11,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <numeric>
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
+#include "pdcg/solver/explicit.hpp"
 
 namespace pdcg::parallel {
 
@@ -58,10 +61,28 @@ void rcb(const std::vector<Vec3>& x, int dim, std::vector<int>::iterator b,
   rcb(x, dim, cut, e, first_part + left, parts - left, owner);
 }
 
+/// Throws InputError naming the PETSc options nothing used (skip_viewers: not those read only
+/// when KSPSolve ends or at PetscFinalize, -ksp_view, -log_view and the like); `expected` says
+/// what the run reads.
+void refuse_unused_options(bool skip_viewers, const std::string& expected);
+
 class PetscDistribution final : public solver::Distribution {
  public:
-  PetscDistribution(Model& model, LinearSolver linear);
+  /// with_matrix false: the force sum only (explicit dynamics), no tangent pattern read
+  PetscDistribution(Model& model, LinearSolver linear, bool with_matrix = true);
   ~PetscDistribution() override;
+  /// Entries exchanged by one sum(): sent (ghost points' partial sums to their owners) and
+  /// received (the points owned elsewhere, by the copy to every process), over all processes.
+  struct Traffic {
+    long long ghost_entries = 0, copy_entries = 0;
+  };
+  Traffic traffic() const;
+  /// This process's points (increasing index: their PETSc order), and the points its
+  /// stencils and weak rows write (owned and ghost points, increasing index).
+  const std::vector<int>& owned_points() const { return owned_points_; }
+  const std::vector<int>& touched_points() const { return touched_; }
+  /// Position of point k in the PETSc order (process by process).
+  PetscInt petsc_position(int k) const { return point_at_[static_cast<std::size_t>(k)]; }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   bool owns_point(int k) const override { return owner_[static_cast<std::size_t>(k)] == rank_; }
@@ -85,6 +106,7 @@ class PetscDistribution final : public solver::Distribution {
   std::vector<int> point_order_;    // PETSc order of the points (process by process)
   std::vector<PetscInt> point_at_;  // point -> its position in point_order_
   std::vector<int> touched_;        // owned + ghost points (this process's partial sums)
+  std::size_t ghosts_written_ = 0;  // of touched_: owned by other processes
   // full adjacency rows of the owned points, in original point order
   std::vector<std::int64_t> adj_off_;
   std::vector<int> adj_idx_;
@@ -109,7 +131,7 @@ class PetscDistribution final : public solver::Distribution {
   std::vector<PetscScalar> vals_;
 };
 
-PetscDistribution::PetscDistribution(Model& model, LinearSolver linear)
+PetscDistribution::PetscDistribution(Model& model, LinearSolver linear, bool with_matrix)
     : d_(model.dimension()),
       npoints_(model.body().size()),
       linear_(linear),
@@ -135,7 +157,7 @@ PetscDistribution::PetscDistribution(Model& model, LinearSolver linear)
     }
   // The tangent's row pattern of the owned points (for the preallocation) from the
   // unrestricted model: every stencil and weak row of every process adds to those rows.
-  {
+  if (with_matrix) {
     const solver::Csr& adj = model.point_adjacency();
     adj_off_.assign(1, 0);
     for (int k : owned_points_) {
@@ -167,7 +189,9 @@ PetscDistribution::PetscDistribution(Model& model, LinearSolver linear)
       }
     }
   }
-  std::size_t ghosts_written = 0, ghosts_read = 0;
+  ghosts_written_ = 0;
+  std::size_t ghosts_read = 0;
+  std::size_t& ghosts_written = ghosts_written_;
   for (std::size_t k = 0; k < npoints_; ++k) {
     if (touched[k]) touched_.push_back(static_cast<int>(k));
     if (!owned[k]) {
@@ -220,6 +244,14 @@ void PetscDistribution::sum(Eigen::VectorXd& v) {
     for (int a = 0; a < d_; ++a)
       v[static_cast<Eigen::Index>(d_ * k + a)] = all[d_ * point_at_[k] + a];
   check(VecRestoreArrayRead(fall_, &all), "VecRestoreArrayRead");
+}
+
+PetscDistribution::Traffic PetscDistribution::traffic() const {
+  long long mine[2] = {static_cast<long long>(d_ * ghosts_written_),
+                       static_cast<long long>(d_ * (npoints_ - owned_points_.size()))};
+  long long all[2] = {0, 0};
+  MPI_Allreduce(mine, all, 2, MPI_LONG_LONG, MPI_SUM, comm_);
+  return {all[0], all[1]};
 }
 
 void PetscDistribution::sum_scalars(Eigen::VectorXd& v) {
@@ -440,6 +472,13 @@ bool PetscDistribution::solve(const SparseRow& K, const Eigen::VectorXd& rhs, Ei
 }
 
 void PetscDistribution::check_options_left(bool skip_viewers) {
+  refuse_unused_options(skip_viewers,
+                        fmt::format("options of the KSP/PC of solver.linear: {} (-ksp_*, -pc_*, "
+                                    "-mat_mumps_*; list them with -help)",
+                                    solver::to_string(linear_)));
+}
+
+void refuse_unused_options(bool skip_viewers, const std::string& expected) {
   PetscInt n = 0;
   char** names = nullptr;
   char** values = nullptr;
@@ -459,11 +498,170 @@ void PetscDistribution::check_options_left(bool skip_viewers) {
                                  left.size() == 1 ? "" : "s", fmt::join(left, " ")))
         .key("--petsc-options / PETSC_OPTIONS")
         .value(fmt::format("{}", fmt::join(left, " ")))
-        .expected(fmt::format("options of the KSP/PC of solver.linear: {} (-ksp_*, -pc_*, "
-                              "-mat_mumps_*; list them with -help)",
-                              solver::to_string(linear_)))
+        .expected(expected)
         .fix("correct or remove the option");
 }
+
+/// Explicit dynamics on several processes (docs/scale-out.md §6). The whole Model stays with
+/// the ExplicitSolver (the stable step, the rupture criterion, the outputs); the force is
+/// evaluated by a second Model on the same body restricted to this process's stencils and
+/// weak rows (the partition and ownership of PetscDistribution), and summed over the processes
+/// through a ghosted PETSc vector: its local form is [owned points | ghost points], a reverse
+/// ghost update adds the ghosts' partial sums into their owners' entries, and the assembled
+/// vector is copied to every process. Broken bonds: the body and its broken flags are replicated,
+/// and every process decides the same bonds from the same bits of u; after each break event the
+/// restricted stencils are copied again from the rebuilt body and the broken counts are
+/// compared across the processes.
+class PetscForceExchange final : public solver::ForceExchange {
+ public:
+  explicit PetscForceExchange(const Model& whole) : whole_(&whole), d_(whole.dimension()) {
+    int processes = 1;
+    MPI_Comm_size(PETSC_COMM_WORLD, &processes);
+    if (processes == 1) {
+      // one process: the whole model is its part; no second Model, nothing to exchange
+      log::info("explicit dynamics on 1 MPI process: the whole model, nothing exchanged");
+      refuse_explicit_options();
+      return;
+    }
+    part_ = std::make_unique<Model>(whole.body(), whole.material(), whole.options());
+    sum_ = std::make_unique<PetscDistribution>(*part_, LinearSolver::mumps, false);
+    const std::size_t n = whole.body().size();
+    owned_.assign(n, 0);
+    for (std::size_t k = 0; k < n; ++k) owned_[k] = sum_->owns_point(static_cast<int>(k)) ? 1 : 0;
+    // The index sets of the exchange: owned points (local entries [0, d·owned)), ghost points
+    // (the points this process's stencils write that others own; local entries after them).
+    owned_points_ = sum_->owned_points();
+    std::vector<PetscInt> ghost_rows;
+    for (int k : sum_->touched_points())
+      if (!owned_[static_cast<std::size_t>(k)]) {
+        ghost_points_.push_back(k);
+        for (int a = 0; a < d_; ++a) ghost_rows.push_back(d_ * sum_->petsc_position(k) + a);
+      }
+    check(VecCreateGhost(PETSC_COMM_WORLD, static_cast<PetscInt>(d_ * owned_points_.size()),
+                         PETSC_DECIDE, static_cast<PetscInt>(ghost_rows.size()), ghost_rows.data(),
+                         &force_),
+          "VecCreateGhost");
+    check(VecScatterCreateToAll(force_, &to_all_, &force_all_), "VecScatterCreateToAll");
+    position_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) position_[k] = sum_->petsc_position(static_cast<int>(k));
+    const auto t = sum_->traffic();
+    const auto bytes =
+        (t.ghost_entries + t.copy_entries) * static_cast<long long>(sizeof(PetscScalar));
+    log::info(
+        "explicit dynamics on {} MPI processes: per force evaluation {} partial sums of ghost "
+        "points sent to their owners, {} entries copied to the processes that do not own them "
+        "(≈ {} kB over all processes)",
+        sum_->size(), t.ghost_entries, t.copy_entries, (bytes + 512) / 1024);
+    refuse_explicit_options();
+  }
+  PetscForceExchange(const PetscForceExchange&) = delete;
+  PetscForceExchange& operator=(const PetscForceExchange&) = delete;
+  ~PetscForceExchange() override {
+    VecDestroy(&force_);
+    VecDestroy(&force_all_);
+    VecScatterDestroy(&to_all_);
+    // this process's own times (no collective call here: a destructor may run while another
+    // process has stopped with an error)
+    if (evaluations_ > 0)
+      log::info(
+          "explicit dynamics, process {}/{}: {} force evaluations, {:.3g} ms each ({:.3g} ms "
+          "of CPU) for its stencils, {:.3g} ms for the admissibility vote and the sum over the "
+          "processes",
+          sum_ ? sum_->rank() : 0, sum_ ? sum_->size() : 1, evaluations_,
+          1e3 * evaluate_seconds_ / evaluations_, 1e3 * evaluate_cpu_seconds_ / evaluations_,
+          1e3 * exchange_seconds_ / evaluations_);
+  }
+  bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) override {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    const double c0 = cpu_seconds();
+    const int mine = (part_ ? *part_ : *whole_).internal_force(u, f) ? 1 : 0;
+    evaluate_cpu_seconds_ += cpu_seconds() - c0;
+    const auto t1 = clock::now();
+    int all = mine;
+    if (sum_) {
+      MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+      if (all) sum(f);
+    }
+    ++evaluations_;
+    evaluate_seconds_ += std::chrono::duration<double>(t1 - t0).count();
+    exchange_seconds_ += std::chrono::duration<double>(clock::now() - t1).count();
+    return all != 0;
+  }
+  void stencils_rebuilt() override {
+    if (!part_) return;  // the whole model reads the body's stencils themselves
+    part_->restrict_evaluation(owned_);
+    const auto& body = part_->body();
+    const long long mine[2] = {static_cast<long long>(body.broken_bonds()),
+                               -static_cast<long long>(body.broken_bonds())};
+    long long ext[2] = {0, 0};  // max, −min
+    MPI_Allreduce(mine, ext, 2, MPI_LONG_LONG, MPI_MAX, PETSC_COMM_WORLD);
+    if (ext[0] != -ext[1])
+      throw Error(
+          fmt::format("internal error: the processes broke different bonds ({} to {} broken bonds)",
+                      -ext[1], ext[0]));
+  }
+  /// f: this process's partial sums (on its owned and ghost points) → the sum over the
+  /// processes, the same bits on every process.
+  void sum(Eigen::VectorXd& f) {
+    Vec local = nullptr;
+    check(VecGhostGetLocalForm(force_, &local), "VecGhostGetLocalForm");
+    PetscScalar* x = nullptr;
+    check(VecGetArray(local, &x), "VecGetArray");
+    std::size_t e = 0;
+    for (const auto* points : {&owned_points_, &ghost_points_})
+      for (int k : *points)
+        for (int a = 0; a < d_; ++a) x[e++] = f[static_cast<Eigen::Index>(d_) * k + a];
+    check(VecRestoreArray(local, &x), "VecRestoreArray");
+    check(VecGhostRestoreLocalForm(force_, &local), "VecGhostRestoreLocalForm");
+    // reverse ghost update: the ghosts' partial sums added into their owners' entries
+    check(VecGhostUpdateBegin(force_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+    check(VecGhostUpdateEnd(force_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+    // the assembled force to every process (the replicated state, docs/scale-out.md §6)
+    check(VecScatterBegin(to_all_, force_, force_all_, INSERT_VALUES, SCATTER_FORWARD),
+          "VecScatter");
+    check(VecScatterEnd(to_all_, force_, force_all_, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+    const PetscScalar* all = nullptr;
+    check(VecGetArrayRead(force_all_, &all), "VecGetArrayRead");
+    for (std::size_t k = 0; k < position_.size(); ++k)
+      for (int a = 0; a < d_; ++a)
+        f[static_cast<Eigen::Index>(d_ * k + a)] = all[d_ * position_[k] + a];
+    check(VecRestoreArrayRead(force_all_, &all), "VecRestoreArrayRead");
+  }
+  double energy(const Eigen::VectorXd& u) override {
+    if (!part_) return whole_->energy(u);
+    const double mine = part_->energy(u);
+    double all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    return all;
+  }
+
+ private:
+  const Model* whole_;
+  std::unique_ptr<Model> part_;  // this process's stencils (null on one process)
+  // partition, ownership, ghosts (its force sum is the Newton run's); null on one process
+  std::unique_ptr<PetscDistribution> sum_;
+  int d_ = 2;
+  std::vector<char> owned_;
+  std::vector<int> owned_points_, ghost_points_;  // the index sets of the exchange
+  std::vector<PetscInt> position_;                // point -> PETSc position
+  Vec force_ = nullptr, force_all_ = nullptr;     // ghosted; its copy on every process
+  VecScatter to_all_ = nullptr;
+  // Explicit dynamics reads no PETSc option: one given is a mistake, refused before the run
+  static void refuse_explicit_options() {
+    refuse_unused_options(true,
+                          "no PETSc options: explicit dynamics uses no PETSc solver (viewers "
+                          "such as -log_view are accepted)");
+  }
+  // CPU time of this process (all its threads): the work, whatever the machine's load
+  static double cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  long evaluations_ = 0;
+  double evaluate_seconds_ = 0, evaluate_cpu_seconds_ = 0, exchange_seconds_ = 0;
+};
 
 }  // namespace
 
@@ -522,6 +720,10 @@ std::shared_ptr<solver::Distribution> distribute(Model& model, LinearSolver line
   return std::make_shared<PetscDistribution>(model, linear);
 }
 
+std::unique_ptr<solver::ForceExchange> distribute_explicit(const Model& model) {
+  return std::make_unique<PetscForceExchange>(model);
+}
+
 }  // namespace pdcg::parallel
 
 extern "C" const pdcg::parallel::Api* pdcg_parallel_api() {
@@ -538,6 +740,7 @@ extern "C" const pdcg::parallel::Api* pdcg_parallel_api() {
       [](void* s) { delete static_cast<Session*>(s); },
       &Session::abort,
       &distribute,
+      &distribute_explicit,
   };
   return &api;
 }

@@ -69,6 +69,6 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                  const std::optional<Restart>& restart, solver::Discretization& body,
                  solver::Model& model, const solver::Material& material,
                  std::vector<solver::DisplacementSet> dsets, std::vector<solver::TractionSet> tsets,
-                 const std::function<void()>& begin_outputs);
+                 const std::function<void()>& begin_outputs, const RunOptions& run_options);
 
 }  // namespace pdcg::scene

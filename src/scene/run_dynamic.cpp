@@ -20,8 +20,12 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
                  const std::optional<Restart>& restart, solver::Discretization& body,
                  solver::Model& model, const solver::Material& material,
                  std::vector<solver::DisplacementSet> dsets, std::vector<solver::TractionSet> tsets,
-                 const std::function<void()>& begin_outputs) {
+                 const std::function<void()>& begin_outputs, const RunOptions& ro) {
   const int d = s.dimension;
+  // Several processes (docs/scale-out.md §6): every process steps the same replicated state;
+  // the forces come from the force exchange (this process's stencils, summed), and rank 0
+  // alone writes.
+  const bool writer = ro.rank == 0;
   const std::size_t N = body.size();
   if (restart && restart->kind != "dynamic")
     throw InputError("the checkpoint is of a quasi-static run").source(restart->file.string());
@@ -43,6 +47,19 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
   } catch (InputError& e) {
     throw with_line(s, e);  // e.g. a time step above the stable limit: refused, nothing written
   }
+  std::unique_ptr<solver::ForceExchange> exchange;
+  if (ro.distribute_explicit) {
+    try {
+      exchange = ro.distribute_explicit(model);
+    } catch (InputError& e) {
+      throw with_line(s, e);  // e.g. a PETSc option explicit dynamics does not read
+    }
+    ex->set_force_exchange(exchange.get());
+  }
+  // Π(u): the model's, or summed over the processes' stencils
+  auto energy = [&](const Eigen::VectorXd& u) {
+    return exchange ? exchange->energy(u) : model.energy(u);
+  };
   begin_outputs();
   // Steps: auto → Δt = end_time / ⌈end_time / (safety Δt_crit)⌉ (ends exactly at end_time,
   // still ≤ safety Δt_crit); a given Δt is kept and the last step may pass end_time.
@@ -135,7 +152,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     csv << "\n";
   }
   auto sample = [&](long n) {
-    const double ek = ex->kinetic_energy(), ei = model.energy(ex->displacement());
+    const double ek = ex->kinetic_energy(), ei = energy(ex->displacement());
     // total_verlet: ½ v_{n−½}·M v_{n+½} + Π, the energy velocity Verlet conserves exactly for
     // a linear system (E_kin + Π oscillates by O((ωΔt)²) around it; docs/effects.md)
     csv << n << ","
@@ -154,11 +171,13 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     return ek + ei;
   };
   auto write_series = [&] {
+    if (!writer) return;
     io::AtomicTextFile f(dir / "series.csv");
     f.stream() << csv.str();
     f.commit();
   };
   auto write_step = [&](long n) {
+    if (!writer) return;
     write_fields(dir, s, body, model, material, ex->displacement(), &ex->velocity(), s.rupture,
                  static_cast<int>(n), [&](io::H5Writer& h5) {
                    h5.attribute("/", "step", static_cast<std::int64_t>(n));
@@ -175,7 +194,7 @@ void run_dynamic(const Scene& s, const std::filesystem::path& dir,
     E0 = sample(0);
     write_step(0);
   } else {
-    E0 = ex->kinetic_energy() + model.energy(ex->displacement());
+    E0 = ex->kinetic_energy() + energy(ex->displacement());
   }
   Progress progress("steps", static_cast<std::uint64_t>(steps));
   const long progress_every = std::max(1L, steps / 2000);

@@ -34,9 +34,13 @@ void refuse_distributed(const Scene& s, const RunOptions& ro) {
         .fix("run on one process (without mpirun), or drop " + key);
   };
   if (ro.restart) refuse("restart from a checkpoint", "--restart");
-  if (s.inertia) refuse("explicit dynamics", "inertia");
-  if (s.rupture) refuse("rupture", "effects");
-  if (!s.effects.empty()) refuse("effects", "effects");
+  // explicit dynamics runs on several processes, with dynamic fracture (docs/scale-out.md §6);
+  // the quasi-static rupture and the other effects do not
+  if (s.rupture && !s.inertia) refuse("rupture of a quasi-static run", "effects");
+  for (const auto& e : s.effects)
+    if (e != "inertia" && e != "rupture" && e != "damping") refuse("effect '" + e + "'", "effects");
+  if (s.rupture && s.rupture_options.softening != solver::RuptureSoftening::none)
+    refuse("the softening failure law", "rupture.softening");
   if (s.newton.matrix_free) refuse("the matrix-free GMRES", "solver.matrix_free");
   if (s.newton.check_stability) refuse("the stability check", "solver.check_stability");
   if (s.checkpoint_every > 0) refuse("checkpointing", "output.checkpoint_every");
@@ -125,7 +129,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   checks::boundary_sets(s, body, dsets);
   if (s.inertia) {
     run_dynamic(s, dir, restart, body, model, *material, std::move(dsets), std::move(tsets),
-                begin_outputs);
+                begin_outputs, ro);
     return;
   }
   solver::NewtonOptions nopt = s.newton;

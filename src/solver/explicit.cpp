@@ -162,6 +162,7 @@ void ExplicitSolver::rupture_check() {
   const RupturePass p = rupture_->break_exceeding(u_);
   last_pass_.max_value = p.max_value;
   if (p.broken == 0) return;
+  notify_rebuilt();
   last_pass_.broken += p.broken;
   last_pass_.inverted += p.inverted;
   last_pass_.rebuilt += p.rebuilt;
@@ -210,7 +211,7 @@ void ExplicitSolver::set_displacement(const Eigen::VectorXd& u) {
 }
 
 void ExplicitSolver::compute_force(double t) {
-  if (model_->internal_force(u_, f_)) return;
+  if (evaluate_force()) return;
   if (rupture_) {
     // Dynamic fracture: a stencil inverted (J ≤ 0) during the step; its material cannot be
     // evaluated — the bond counts as past every criterion and breaks (then the stable
@@ -219,7 +220,8 @@ void ExplicitSolver::compute_force(double t) {
     last_pass_.broken += p.broken;
     last_pass_.inverted += p.inverted;
     last_pass_.rebuilt += p.rebuilt;
-    if ((p.broken > 0 || p.point_stencils_off > 0) && model_->internal_force(u_, f_)) {
+    if (p.broken > 0 || p.point_stencils_off > 0) notify_rebuilt();
+    if ((p.broken > 0 || p.point_stencils_off > 0) && evaluate_force()) {
       after_break();
       return;
     }

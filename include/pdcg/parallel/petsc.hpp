@@ -1,5 +1,6 @@
 /// \file
-/// The quasi-static Newton solver on several MPI processes with PETSc (docs/scale-out.md).
+/// The quasi-static Newton solver and explicit dynamics on several MPI processes with PETSc
+/// (docs/scale-out.md).
 ///
 /// Points are partitioned by recursive coordinate bisection (partition_points); each process
 /// evaluates the energy stencils centred at its points and the weak-form rows of its points
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pdcg/solver/explicit.hpp"
 #include "pdcg/solver/newton.hpp"
 
 namespace pdcg::parallel {
@@ -56,6 +58,14 @@ std::vector<int> partition_points(const std::vector<solver::Vec3>& x, int dimens
 /// StaticSolver takes (NewtonOptions::distribution). `linear` is mumps, gamg or hypre.
 std::shared_ptr<solver::Distribution> distribute(solver::Model& model, solver::LinearSolver linear);
 
+/// Explicit dynamics on the processes of PETSC_COMM_WORLD (docs/scale-out.md §6): the same
+/// partition; on several processes a second Model on the model's body evaluates this process's
+/// stencils and weak rows, and the forces are summed over the processes through a ghosted PETSc
+/// vector (on one process the whole model evaluates, nothing is exchanged). `model` (the whole
+/// one) is not changed; the result is given to ExplicitSolver::set_force_exchange and must
+/// outlive its use.
+std::unique_ptr<solver::ForceExchange> distribute_explicit(const solver::Model& model);
+
 /// The module's entry points as one table, for the `pdcg` executable, which loads the module
 /// only when a run uses it (dlopen: linked, PETSc and its libraries cost every start of the
 /// executable ~45 ms of CPU and 16 MB; docs/scale-out.md §1). C linkage: `pdcg_parallel_api`.
@@ -68,6 +78,7 @@ struct Api {
   void (*abort)(int code);  ///< MPI_Abort; does not return
   std::shared_ptr<solver::Distribution> (*distribute)(solver::Model& model,
                                                       solver::LinearSolver linear);
+  std::unique_ptr<solver::ForceExchange> (*distribute_explicit)(const solver::Model& model);
 };
 
 }  // namespace pdcg::parallel

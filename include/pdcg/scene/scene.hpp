@@ -64,6 +64,7 @@
 #include "pdcg/scene/effect.hpp"
 #include "pdcg/scene/material_model.hpp"
 #include "pdcg/solver/discretization.hpp"
+#include "pdcg/solver/explicit.hpp"
 #include "pdcg/solver/material.hpp"
 #include "pdcg/solver/model.hpp"
 #include "pdcg/solver/newton.hpp"
@@ -174,6 +175,11 @@ struct RunOptions {
   /// this process's stencils and returns the StaticSolver's Distribution. Empty: serial.
   std::function<std::shared_ptr<solver::Distribution>(solver::Model&, solver::LinearSolver)>
       distribute = {};
+  /// Distributed explicit dynamics (docs/scale-out.md §6): called once with the whole model;
+  /// returns the ExplicitSolver's force exchange (this process's stencils, summed over the
+  /// processes). Empty: serial.
+  std::function<std::unique_ptr<solver::ForceExchange>(const solver::Model&)> distribute_explicit =
+      {};
   int processes = 1;  ///< MPI processes of the run
   int rank = 0;       ///< this process (only rank 0 writes the outputs)
 };

@@ -49,6 +49,25 @@ enum class ExplicitDamping {
   adaptive
 };
 
+/// Explicit dynamics on several processes (docs/scale-out.md §6): the hook through which
+/// ExplicitSolver gets its internal force when the force is evaluated by parts. pdcg::parallel
+/// implements it on PETSc and MPI (each process evaluates the stencils centred at its points,
+/// the partial forces are summed); this library has no MPI dependency. Every process steps the
+/// same replicated u, v with the same summed f, so every decision (time step, broken bonds)
+/// is the same on every process.
+class ForceExchange {
+ public:
+  virtual ~ForceExchange() = default;
+  /// f (all d·N components) ← the internal force at u, summed over the processes; bitwise
+  /// the same on every process. False (on every process) if F is inadmissible (J ≤ 0) on
+  /// any process.
+  virtual bool internal_force(const Eigen::VectorXd& u, Eigen::VectorXd& f) = 0;
+  /// The body's stencils were rebuilt (bonds broke): later forces must use them.
+  virtual void stencils_rebuilt() = 0;
+  /// Π(u) summed over the processes (each its own stencils'), the same on every process.
+  virtual double energy(const Eigen::VectorXd& u) = 0;
+};
+
 struct ExplicitOptions {
   double density = 1.0;
   double time_step = 0.0;  ///< 0 = auto (safety · Δt_crit)
@@ -118,6 +137,13 @@ class ExplicitSolver {
   long steps_taken() const { return n_steps_; }
   /// Recomputes f and a at the current u (after the model changed, e.g. bonds broke).
   void refresh_force() { compute_acceleration(t_); }
+  /// Internal forces through `x` from now on (nullptr: the model's own, the serial run); f
+  /// and a are recomputed at the current u. The model given to the constructor stays the
+  /// whole one: the stable step (Gershgorin) and the rupture use it.
+  void set_force_exchange(ForceExchange* x) {
+    exchange_ = x;
+    refresh_force();
+  }
   /// Gershgorin bound 2/√(max Σ_n |K_kn|/M_k) over the rows of the given points only.
   double critical_time_step_local(const Eigen::VectorXd& u, const std::vector<int>& points) const;
 
@@ -136,6 +162,14 @@ class ExplicitSolver {
  private:
   void compute_acceleration(double t);
   void compute_force(double t);
+  /// f_ = f(u_): the model's, or the exchange's sum over the processes
+  bool evaluate_force() {
+    return exchange_ ? exchange_->internal_force(u_, f_) : model_->internal_force(u_, f_);
+  }
+  void notify_rebuilt() {
+    if (exchange_) exchange_->stencils_rebuilt();
+  }
+  ForceExchange* exchange_ = nullptr;
   void acceleration_from_force();
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
