@@ -28,6 +28,7 @@ struct Options {
   double fit = 0.0;
   int fit_steps = 4;
   std::optional<double> quasi_harmonic;  ///< temperature of the free energy W_T
+  double quasi_harmonic_step = 1e-4;     ///< central-difference step in E of its vibrational part
 };
 
 std::string matrix_json(const Eigen::MatrixXd& m) {
@@ -70,7 +71,7 @@ int run(const Options& o) {
   const body::IonRelaxation ion =
       o.clamped || o.quasi_harmonic ? body::IonRelaxation::clamped : body::IonRelaxation::relaxed;
   std::optional<body::QuasiHarmonicCauchyBorn> qh;
-  if (o.quasi_harmonic) qh.emplace(b, *o.quasi_harmonic);
+  if (o.quasi_harmonic) qh.emplace(b, *o.quasi_harmonic, o.quasi_harmonic_step);
   std::optional<body::CauchyBorn> static_cb;  // relaxed: InputError unless a perfect crystal
   if (!qh) static_cb.emplace(b, ion);
   const body::CauchyBorn& cb = qh ? qh->cauchy_born() : *static_cb;
@@ -235,6 +236,9 @@ pdcg::cli::Registration reg(140, [](CLI::App& app) -> pdcg::cli::Runner {
                   "Isothermal constants of the classical quasi-harmonic free energy W_T(F) at "
                   "this temperature (kelvin; k_B T/ε in units lj): periodic 3D delta body of a "
                   "crystal cell, ≤ 3000 atoms (docs/temperature.md)");
+  sub->add_option("--quasi-harmonic-step", o->quasi_harmonic_step,
+                  "Central-difference step in the Green–Lagrange strain of the vibrational part "
+                  "(default 1e-4; larger steps average over the knots of tabulated potentials)");
   sub->add_flag(
       "--critical", o->critical,
       "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");
