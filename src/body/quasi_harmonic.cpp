@@ -4,11 +4,13 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
 #include "pdcg/body/lattice.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 #include "pdcg/core/units.hpp"
 
 namespace pdcg::body {
@@ -237,6 +239,21 @@ CauchyBornState QuasiHarmonicCauchyBorn::evaluate(const Eigen::Matrix3d& F, bool
   st.W += c * (s0 - modes * std::log(kT_));
   st.P += c * F * dS;
   if (!tangent) return st;
+  // Tabulated EAM: LAMMPS's cubic splines are C¹, so the force-state tangents jump at the knots
+  // (every dr of the table) and S′ jumps where a shell of bonds crosses one. Within one piece
+  // the fourth derivative of the potential is zero: a step below a few knots gives the local
+  // derivative of one piece, not the stiffness (docs/temperature.md §3, measured for Cu).
+  if (step_ < 5e-3 && body_.potential->style().rfind("eam", 0) == 0) {
+    static std::atomic<bool> said{false};
+    if (!said.exchange(true))
+      log::warn(
+          "quasi-harmonic stiffness of a tabulated EAM potential with strain step {:g}: the "
+          "splines' second derivatives jump at the table's knots, and a step shorter than a few "
+          "knots gives the stiffness of one spline piece (for Cu_u3.eam at 600 K the thermal "
+          "C11 is −12 GPa with steps ≤ 1e-3 and −3 GPa with 1e-2); use a step of ≈ 1e-2 "
+          "(--quasi-harmonic-step) or secant slopes of the stress over ±1 % strain",
+          step_);
+  }
   // ∂²S/∂e_I∂e_J, then the tensor ∂²S/∂E_ab∂E_cd = that / (m_I m_J)
   Eigen::Matrix<double, 6, 6> d2;
   for (int I = 0; I < 6; ++I) {
