@@ -155,7 +155,9 @@ int run(const Options& o) {
         "free energy: quasi-harmonic at T = %g (W_T = W + k_B T Σ ln(ω/k_B T) / V₀ of the cell's "
         "%zu vibrations; its vibrational part by central differences in E)\n",
         *o.quasi_harmonic, 3 * b.size() - 3);
-  if (cb.relaxing())
+  if (qh && lat.bravais())
+    std::printf("ion relaxation: none needed (Bravais lattice; every atom at F x)\n");
+  else if (cb.relaxing())
     std::printf(
         "ion relaxation: relaxed (sublattice shifts minimise W at F: %d Newton steps; "
         "--clamped-ion for the clamped values)\n",
@@ -179,8 +181,8 @@ int run(const Options& o) {
   std::printf("%s = %.10g %s (energy/volume)\n", qh ? "W_T(F)" : "W(F)", st.W, unit.c_str());
   std::printf("second Piola–Kirchhoff stress S = F⁻¹P [%s]:\n", unit.c_str());
   for (int r = 0; r < 3; ++r) std::printf("  %14.7g %14.7g %14.7g\n", S(r, 0), S(r, 1), S(r, 2));
-  std::printf("C_IJ = ∂²W/∂E_I∂E_J, %s-ion (Voigt 11 22 33 23 13 12) [%s]:\n", ion_name,
-              unit.c_str());
+  std::printf("C_IJ = ∂²%s/∂E_I∂E_J, %s-ion (Voigt 11 22 33 23 13 12) [%s]:\n", qh ? "W_T" : "W",
+              ion_name, unit.c_str());
   for (int r = 0; r < 6; ++r) {
     std::printf(" ");
     for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c));
