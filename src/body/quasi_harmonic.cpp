@@ -242,7 +242,7 @@ CauchyBornState QuasiHarmonicCauchyBorn::evaluate(const Eigen::Matrix3d& F, bool
   // Tabulated EAM: LAMMPS's cubic splines are C¹, so the force-state tangents jump at the knots
   // (every dr of the table) and S′ jumps where a shell of bonds crosses one. Within one piece
   // the fourth derivative of the potential is zero: a step below a few knots gives the local
-  // derivative of one piece, not the stiffness (docs/temperature.md §3, measured for Cu).
+  // derivative of one piece, not the stiffness (docs/temperature.md §3.1, measured for Cu).
   if (step_ < 5e-3 && body_.potential->style().rfind("eam", 0) == 0) {
     static std::atomic<bool> said{false};
     if (!said.exchange(true))

@@ -3,7 +3,7 @@
 /// --stress also the first Piola–Kirchhoff stress P = ∂W/∂F (Evaluator::stress: for statistical
 /// bodies the expected value, at F = I minus the virial part of LAMMPS's pressure tensor).
 /// --quasi-harmonic T: also the quasi-harmonic free energy density W_T(F), with --stress its
-/// stress P_T = ∂W_T/∂F (body::QuasiHarmonicCauchyBorn; docs/temperature.md §3).
+/// stress P_T = ∂W_T/∂F (body::QuasiHarmonicCauchyBorn; docs/temperature.md §3.1).
 #include <fmt/format.h>
 
 #include <cstdio>

@@ -10,16 +10,16 @@ namespace pdcg::scene {
 
 namespace {
 
-// `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
-// read here once so that a bad file, a statistical body or a dimension mismatch is an input
-// error of the scene (with its line), not a failure at run time.
 /// `temperature: T, free_energy: quasi-harmonic` of the Cauchy–Born material
-/// (docs/temperature.md §3): the isothermal material W_T(F) of the model file's crystal cell.
+/// (docs/temperature.md §3.1): the isothermal material W_T(F) of the model file's crystal cell.
 struct FreeEnergyKeys {
   std::string free_energy = "none";
   double temperature = 0.0;
 };
 
+// `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
+// read here once so that a bad file, a statistical body or a dimension mismatch is an input
+// error of the scene (with its line), not a failure at run time.
 void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::path& scene_file,
                       Scene& s, FreeEnergyKeys& fe) {
   for (const char* k : {"shear_modulus", "bulk_modulus"})

@@ -121,7 +121,7 @@ class CauchyBornMaterial final : public solver::Material {
   std::string source_;
 };
 
-/// The quasi-harmonic Cauchy–Born material at temperature T (docs/temperature.md §3; the scene's
+/// The quasi-harmonic Cauchy–Born material at temperature T (docs/temperature.md §3.1; the scene's
 /// `material: {model: cauchy-born, file: …, temperature: T, free_energy: quasi-harmonic}`):
 /// Ψ(F) = W_T(F), P and A of body::QuasiHarmonicCauchyBorn (static part analytic, vibrational
 /// part central differences in E). 3D periodic delta bodies only (≤ 3000 atoms); every

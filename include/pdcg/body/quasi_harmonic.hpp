@@ -41,7 +41,7 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
 /// The quasi-harmonic Cauchy–Born material at temperature T (header comment): W_T, P_T and
 /// (if asked) A_T at F. `strain_step` is the central-difference step h in E of the
 /// vibrational part (default 1e-4: truncation O(h²) ≈ 1e-8 relative, round-off ≈ 1e-16 |S|/h²
-/// ≈ 1e-8 relative of ∂²S for cells of a few hundred atoms; docs/temperature.md §3).
+/// ≈ 1e-8 relative of ∂²S for cells of a few hundred atoms; docs/temperature.md §3.1).
 /// Throws InputError for what quasi_harmonic() refuses, for a crystal whose basis would relax
 /// under F (the free energy is minimised over the atoms held at Fx only: Bravais lattices and
 /// crystals whose every atom is a centre of inversion), and for h outside (0, 0.01].
