@@ -66,6 +66,8 @@ Vibrations vibrations(const Body& body, const Eigen::Matrix3d& F) {
       Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(dim));
   std::vector<double> K, work, t;
   atomistic::FamilyGather gather;
+  // a pair potential's tangent is block-diagonal (K_bc = 0 for b ≠ c): only K_bb is scattered
+  const bool pairwise = pot.pairwise();
   Vibrations v;
   for (std::size_t k = 0; k < n; ++k) {
     const auto b0 = static_cast<std::size_t>(fam.offset[k]);
@@ -81,7 +83,7 @@ Vibrations vibrations(const Body& body, const Eigen::Matrix3d& F) {
     for (std::size_t bj = 0; bj < m; ++bj) {
       const auto ij =
           static_cast<Eigen::Index>(3 * static_cast<std::size_t>(fam.neighbor[b0 + bj]));
-      for (std::size_t bc = 0; bc < m; ++bc) {
+      for (std::size_t bc = pairwise ? bj : 0; bc < (pairwise ? bj + 1 : m); ++bc) {
         const auto ic =
             static_cast<Eigen::Index>(3 * static_cast<std::size_t>(fam.neighbor[b0 + bc]));
         const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> blk(K.data() +
