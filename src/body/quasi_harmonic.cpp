@@ -3,33 +3,53 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
+#include "pdcg/body/lattice.hpp"
 #include "pdcg/core/error.hpp"
+#include "pdcg/core/log.hpp"
 #include "pdcg/core/units.hpp"
 
 namespace pdcg::body {
 
-QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double temperature) {
+namespace {
+
+void check_body(const Body& body, double temperature) {
   if (body.kind != BodyKind::delta || body.dimension != 3 || !body.box.periodic[0] ||
       !body.box.periodic[1] || !body.box.periodic[2])
     throw InputError("the quasi-harmonic free energy needs a periodic 3D delta body")
         .key("body")
-        .value(fmt::format("{} body, dimension {}", to_string(body.kind), body.dimension))
+        .value(fmt::format("{} body, dimension {}, periodic {}{}{}", to_string(body.kind),
+                           body.dimension, body.box.periodic[0] ? "x" : "",
+                           body.box.periodic[1] ? "y" : "", body.box.periodic[2] ? "z" : ""))
         .expected("a delta body of a crystal cell periodic along x, y and z")
-        .fix("build it with pdcg atoms2pd --density delta from one relaxed frame");
+        .fix(
+            "build it with pdcg atoms2pd --density delta from one relaxed frame of a periodic "
+            "cell");
   constexpr std::size_t kMaxAtoms = 3000;  // dense (3N)² Hessian: 648 MB at 3000 atoms
   if (body.size() > kMaxAtoms)
     throw InputError("body too large for the dense quasi-harmonic Hessian")
         .key("body")
         .value(fmt::format("{} atoms", body.size()))
-        .expected(fmt::format("at most {} atoms (a supercell of the crystal)", kMaxAtoms));
+        .expected(fmt::format("at most {} atoms (a supercell of the crystal)", kMaxAtoms))
+        .fix("use a smaller periodic supercell of the crystal (e.g. 4×4×4 cubic cells)");
   if (!(temperature >= 0.0) || !std::isfinite(temperature))
-    throw InputError("temperature must be non-negative")
+    throw InputError("temperature must be non-negative and finite")
         .key("temperature")
-        .value(fmt::format("{}", temperature));
-  const double kT = unit_constants(body.units).boltz * temperature;
+        .value(fmt::format("{}", temperature))
+        .expected("T ≥ 0 in the body's temperature unit (kelvin; k_B T/ε in units lj)");
+}
+
+struct Vibrations {
+  double U = 0.0, sum_ln_omega = 0.0, smallest_omega2 = 0.0;
+  double sum_inverse_omega2 = 0.0;  ///< Σ_i 1/ω_i² (mass-weighted)
+};
+
+// Eigenvalues of the mass-weighted Hessian at y = F x (the body is checked by the caller).
+Vibrations vibrations(const Body& body, const Eigen::Matrix3d& F) {
   const auto& fam = body.families;
   const auto& pot = *body.potential;
   const std::size_t n = body.size(), dim = 3 * n;
@@ -46,7 +66,9 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
       Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(dim));
   std::vector<double> K, work, t;
   atomistic::FamilyGather gather;
-  double U = 0.0;
+  // a pair potential's tangent is block-diagonal (K_bc = 0 for b ≠ c): only K_bb is scattered
+  const bool pairwise = pot.pairwise();
+  Vibrations v;
   for (std::size_t k = 0; k < n; ++k) {
     const auto b0 = static_cast<std::size_t>(fam.offset[k]);
     const std::size_t m = static_cast<std::size_t>(fam.offset[k + 1]) - b0;
@@ -55,13 +77,13 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
     t.resize(3 * m);
     work.resize(atomistic::Potential::tangent_workspace(static_cast<std::int64_t>(m)));
     const atomistic::FamilyState f = gather(fam, body.type, y, hy, k);
-    U += pot.force_state(f, t.data());
+    v.U += pot.force_state(f, t.data());
     pot.force_state_tangent(f, K.data(), work.data());
     const auto ik = static_cast<Eigen::Index>(3 * k);
     for (std::size_t bj = 0; bj < m; ++bj) {
       const auto ij =
           static_cast<Eigen::Index>(3 * static_cast<std::size_t>(fam.neighbor[b0 + bj]));
-      for (std::size_t bc = 0; bc < m; ++bc) {
+      for (std::size_t bc = pairwise ? bj : 0; bc < (pairwise ? bj + 1 : m); ++bc) {
         const auto ic =
             static_cast<Eigen::Index>(3 * static_cast<std::size_t>(fam.neighbor[b0 + bc]));
         const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> blk(K.data() +
@@ -80,8 +102,7 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
   const Eigen::MatrixXd Hs = 0.5 * (H + H.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs, Eigen::EigenvaluesOnly);
   const Eigen::VectorXd& w2 = es.eigenvalues();  // ascending; the first 3 are the translations
-  QuasiHarmonic q;
-  q.smallest_omega2 = w2[3];
+  v.smallest_omega2 = w2[3];
   // a translation is ω² = 0 up to round-off of H; a vibration must lie clearly above it
   const double scale = w2.cwiseAbs().maxCoeff();
   if (!(w2[3] > 1e-10 * scale))
@@ -89,12 +110,181 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
         fmt::format("quasi-harmonic free energy: the lattice is unstable at this F (a vibrational "
                     "eigenvalue ω² = {:.6g}, largest {:.6g}); the free energy does not exist there",
                     w2[3], scale));
-  for (Eigen::Index i = 3; i < w2.size(); ++i) q.sum_ln_omega += 0.5 * std::log(w2[i]);
+  for (Eigen::Index i = 3; i < w2.size(); ++i) {
+    v.sum_ln_omega += 0.5 * std::log(w2[i]);
+    v.sum_inverse_omega2 += 1.0 / w2[i];
+  }
+  return v;
+}
+
+const Body& checked_material_body(const Body& body, double temperature, double step) {
+  check_body(body, temperature);
+  if (!(step > 0.0 && step <= 0.01))
+    throw InputError("quasi-harmonic material: central-difference strain step out of range")
+        .key("strain_step")
+        .value(fmt::format("{}", step))
+        .expected("0 < h ≤ 0.01 (default 1e-4)");
+  const LatticeInfo lat = detect_lattice(body);
+  if (lat.perfect && lat.basis > 1 && !lat.centrosymmetric)
+    throw InputError(
+        "the quasi-harmonic material holds every atom at F x; this crystal's basis "
+        "would relax under F")
+        .key("body")
+        .value(lat.summary)
+        .expected(
+            "a Bravais lattice, or a crystal whose every atom is a centre of inversion "
+            "(B2, L1₂, NaCl)")
+        .fix(
+            "use the static Cauchy–Born material (no temperature) for this crystal: inner "
+            "relaxation of the free energy is not implemented");
+  // Lindemann (1910): crystals melt when the rms displacement reaches ≈ 0.10–0.15 of the
+  // nearest-neighbour distance. Classical harmonic crystal: Σ_k m_k ⟨|u_k|²⟩ = k_B T Σ_i ω_i⁻²,
+  // so ⟨|u|²⟩ ≈ k_B T Σ_i ω_i⁻² / (N m̄). A temperature in the wrong units lands far beyond.
+  if (temperature > 0.0 && lat.nearest > 0.0) {
+    const Vibrations v = vibrations(body, Eigen::Matrix3d::Identity());
+    double mass = 0.0;
+    for (double m : body.mass) mass += m;
+    const double kT = unit_constants(body.units).boltz * temperature;
+    const double lindemann = std::sqrt(kT * v.sum_inverse_omega2 / mass) / lat.nearest;
+    if (lindemann > 0.15)
+      throw InputError("temperature beyond melting for this crystal")
+          .key("temperature")
+          .value(fmt::format("{} (units {}): harmonic rms displacement {:.3g} of the "
+                             "nearest-neighbour distance",
+                             temperature, to_string(body.units), lindemann))
+          .expected(
+              "a crystal below melting: rms displacement < 0.15 of the nearest-neighbour "
+              "distance (Lindemann)")
+          .fix(
+              body.units == UnitStyle::lj
+                  ? "in units lj the temperature is k_B T/ε (LJ fcc melts near 0.7): a "
+                    "temperature in kelvin belongs to units metal or real"
+                  : fmt::format("in units {} the temperature is in kelvin", to_string(body.units)));
+  }
+  return body;
+}
+
+// Strain components e_I of the finite differences: E = Σ e_I B_I, B_I = e_i e_iᵀ (I < 3) or
+// e_j e_kᵀ + e_k e_jᵀ (shears 23, 13, 12); m_I = 1 or 2 turns ∂/∂e_I into tensor components.
+constexpr std::array<std::array<int, 2>, 6> kVoigt{
+    {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}}};
+
+Eigen::Matrix3d strain_basis(int I) {
+  Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
+  const auto [j, k] = kVoigt[static_cast<std::size_t>(I)];
+  B(j, k) += 1.0;
+  if (j != k) B(k, j) += 1.0;
+  return B;
+}
+
+}  // namespace
+
+QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double temperature) {
+  check_body(body, temperature);
+  const double kT = unit_constants(body.units).boltz * temperature;
+  const Vibrations v = vibrations(body, F);
+  QuasiHarmonic q;
+  q.smallest_omega2 = v.smallest_omega2;
+  q.sum_ln_omega = v.sum_ln_omega;
   const double V0 = body.reference_volume();
-  const double modes = static_cast<double>(dim - 3);
-  q.energy_density = U / V0;
-  q.free_energy_density = (U + kT * (q.sum_ln_omega - modes * (kT > 0 ? std::log(kT) : 0.0))) / V0;
+  const double modes = static_cast<double>(3 * body.size() - 3);
+  q.energy_density = v.U / V0;
+  q.free_energy_density =
+      (v.U + kT * (q.sum_ln_omega - modes * (kT > 0 ? std::log(kT) : 0.0))) / V0;
   return q;
+}
+
+QuasiHarmonicCauchyBorn::QuasiHarmonicCauchyBorn(const Body& body, double temperature,
+                                                 double strain_step)
+    : body_(checked_material_body(body, temperature, strain_step)),
+      cb_(body, IonRelaxation::clamped),
+      temperature_(temperature),
+      kT_(unit_constants(body.units).boltz * temperature),
+      step_(strain_step) {}
+
+double QuasiHarmonicCauchyBorn::sum_ln_omega(const Eigen::Matrix3d& F) const {
+  return vibrations(body_, F).sum_ln_omega;
+}
+
+CauchyBornState QuasiHarmonicCauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) const {
+  CauchyBornState st = cb_.evaluate(F, tangent);  // static lattice: analytic W, P, A
+  if (kT_ == 0.0) return st;
+  const double V0 = body_.reference_volume();
+  const double c = kT_ / V0;
+  const double modes = static_cast<double>(3 * body_.size() - 3);
+  const Eigen::Matrix3d E0 = 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
+  // S at the strain E: F(E) = (I + 2E)^½ (S depends on FᵀF only)
+  auto S = [&](const Eigen::Matrix3d& E) {
+    const Eigen::Matrix3d C = Eigen::Matrix3d::Identity() + 2.0 * E;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+    if (!(es.eigenvalues().minCoeff() > 0.0))
+      throw NumericalError("quasi-harmonic material: FᵀF not positive definite");
+    const Eigen::Matrix3d U = es.eigenvectors() * es.eigenvalues().cwiseSqrt().asDiagonal() *
+                              es.eigenvectors().transpose();
+    return sum_ln_omega(U);
+  };
+  const double h = step_;
+  const double s0 = S(E0);
+  std::array<double, 6> sp{}, sm{};
+  for (int I = 0; I < 6; ++I) {
+    sp[static_cast<std::size_t>(I)] = S(E0 + h * strain_basis(I));
+    sm[static_cast<std::size_t>(I)] = S(E0 - h * strain_basis(I));
+  }
+  // ∂S/∂E (tensor, symmetric)
+  Eigen::Matrix3d dS = Eigen::Matrix3d::Zero();
+  for (int I = 0; I < 6; ++I) {
+    const auto [j, k] = kVoigt[static_cast<std::size_t>(I)];
+    const double g = (sp[static_cast<std::size_t>(I)] - sm[static_cast<std::size_t>(I)]) / (2 * h);
+    const double m = j == k ? 1.0 : 2.0;
+    dS(j, k) = dS(k, j) = g / m;
+  }
+  st.W += c * (s0 - modes * std::log(kT_));
+  st.P += c * F * dS;
+  if (!tangent) return st;
+  // Tabulated EAM: LAMMPS's cubic splines are C¹, so the force-state tangents jump at the knots
+  // (every dr of the table) and S′ jumps where a shell of bonds crosses one. Within one piece
+  // the fourth derivative of the potential is zero: a step below a few knots gives the local
+  // derivative of one piece, not the stiffness (docs/temperature.md §3.1, measured for Cu).
+  if (step_ < 5e-3 && body_.potential->style().rfind("eam", 0) == 0) {
+    static std::atomic<bool> said{false};
+    if (!said.exchange(true))
+      log::warn(
+          "quasi-harmonic stiffness of a tabulated EAM potential with strain step {:g}: the "
+          "splines' second derivatives jump at the table's knots, and a step shorter than a few "
+          "knots gives the stiffness of one spline piece (for Cu_u3.eam at 600 K the thermal "
+          "C11 is −12 GPa with steps ≤ 1e-3 and −3 GPa with 1e-2); use a step of ≈ 1e-2 "
+          "(--quasi-harmonic-step) or secant slopes of the stress over ±1 % strain",
+          step_);
+  }
+  // ∂²S/∂e_I∂e_J, then the tensor ∂²S/∂E_ab∂E_cd = that / (m_I m_J)
+  Eigen::Matrix<double, 6, 6> d2;
+  for (int I = 0; I < 6; ++I) {
+    const auto i = static_cast<std::size_t>(I);
+    d2(I, I) = (sp[i] - 2 * s0 + sm[i]) / (h * h);
+    for (int J = I + 1; J < 6; ++J) {
+      const Eigen::Matrix3d a = h * strain_basis(I), b = h * strain_basis(J);
+      d2(I, J) = d2(J, I) =
+          (S(E0 + a + b) - S(E0 + a - b) - S(E0 - a + b) + S(E0 - a - b)) / (4 * h * h);
+    }
+  }
+  // Voigt index of the tensor pair (a, b): 00→0, 11→1, 22→2, 12→3, 02→4, 01→5
+  auto vi = [](int a, int b) {
+    if (a == b) return a;
+    const int s = a + b;
+    return s == 3 ? 3 : s == 2 ? 4 : 5;
+  };
+  auto mult = [](int a, int b) { return a == b ? 1.0 : 2.0; };
+  for (int i = 0; i < 3; ++i)
+    for (int J = 0; J < 3; ++J)
+      for (int k = 0; k < 3; ++k)
+        for (int L = 0; L < 3; ++L) {
+          double a = i == k ? dS(J, L) : 0.0;
+          for (int M = 0; M < 3; ++M)
+            for (int N = 0; N < 3; ++N)
+              a += F(i, M) * F(k, N) * d2(vi(M, J), vi(N, L)) / (mult(M, J) * mult(N, L));
+          st.A(3 * i + J, 3 * k + L) += c * a;
+        }
+  return st;
 }
 
 }  // namespace pdcg::body

@@ -1,18 +1,23 @@
 /// `pdcg elastic BODY.h5 [--F "F11 … F33"] [--json] [--fit MAX_STRETCH] [--critical]
-/// [--clamped-ion]`: Cauchy–Born elastic constants of a model file (docs/elastic.md): relaxed-ion
-/// by default (the basis of a crystal with a basis relaxed at F, §2.2), the Voigt matrix
-/// C_IJ = ∂²W/∂E_I∂E_J (Green–Lagrange strain, second Piola–Kirchhoff stress) at the pre-strain F,
-/// Voigt/Reuss bulk and shear moduli, optionally a neo-Hookean fit and critical stretches.
+/// [--clamped-ion] [--quasi-harmonic T]`: Cauchy–Born elastic constants of a model file
+/// (docs/elastic.md): relaxed-ion by default (the basis of a crystal with a basis relaxed at F,
+/// §2.2), the Voigt matrix C_IJ = ∂²W/∂E_I∂E_J (Green–Lagrange strain, second Piola–Kirchhoff
+/// stress) at the pre-strain F, Voigt/Reuss bulk and shear moduli, optionally a neo-Hookean fit and
+/// critical stretches.
+/// `--quasi-harmonic T`: the same of the quasi-harmonic free energy W_T(F) at temperature T
+/// (docs/temperature.md §3; body::QuasiHarmonicCauchyBorn), the isothermal constants.
 #include <fmt/format.h>
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "body_cli_util.hpp"
 #include "command.hpp"
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/body/quasi_harmonic.hpp"
 #include "pdcg/core/units.hpp"
 
 namespace {
@@ -22,6 +27,8 @@ struct Options {
   bool json = false, critical = false, clamped = false;
   double fit = 0.0;
   int fit_steps = 4;
+  std::optional<double> quasi_harmonic;  ///< temperature of the free energy W_T
+  double quasi_harmonic_step = 1e-4;     ///< central-difference step in E of its vibrational part
 };
 
 std::string matrix_json(const Eigen::MatrixXd& m) {
@@ -52,10 +59,23 @@ int run(const Options& o) {
         .value(o.F)
         .expected(
             "F13 = F23 = F31 = F32 = 0 and F33 = 1 (bodies of dimension 2 lie in the xy plane)");
+  if (o.quasi_harmonic && (o.fit != 0.0 || o.critical))
+    throw InputError("--fit and --critical are not available for the quasi-harmonic free energy")
+        .source(o.fit != 0.0 ? "--fit" : "--critical")
+        .fix("drop --quasi-harmonic for the static lattice's fit and critical stretches");
+  if (o.quasi_harmonic && o.clamped)
+    throw InputError("--clamped-ion is implied by --quasi-harmonic")
+        .source("--clamped-ion")
+        .fix("drop --clamped-ion: the quasi-harmonic material holds every atom at F x");
+  // quasi-harmonic: the atoms are held at F x (bodies whose basis would relax are refused)
   const body::IonRelaxation ion =
-      o.clamped ? body::IonRelaxation::clamped : body::IonRelaxation::relaxed;
-  const body::CauchyBorn cb(b, ion);  // relaxed: InputError unless a perfect crystal
-  const body::CauchyBornState st = cb.evaluate(F);
+      o.clamped || o.quasi_harmonic ? body::IonRelaxation::clamped : body::IonRelaxation::relaxed;
+  std::optional<body::QuasiHarmonicCauchyBorn> qh;
+  if (o.quasi_harmonic) qh.emplace(b, *o.quasi_harmonic, o.quasi_harmonic_step);
+  std::optional<body::CauchyBorn> static_cb;  // relaxed: InputError unless a perfect crystal
+  if (!qh) static_cb.emplace(b, ion);
+  const body::CauchyBorn& cb = qh ? qh->cauchy_born() : *static_cb;
+  const body::CauchyBornState st = qh ? qh->evaluate(F) : cb.evaluate(F);
   const body::Matrix6d C = body::voigt_elastic_constants(F, st);
   const body::Moduli mod = body::moduli(C, b.dimension);
   const Eigen::Matrix3d S = F.inverse() * st.P;
@@ -103,6 +123,9 @@ int run(const Options& o) {
                     "\"relaxation_iterations\": {}",
                     lat.perfect, lat.basis, lat.centrosymmetric, !note.text.empty(), lat.summary,
                     ion_name, st.iterations));
+    if (o.quasi_harmonic)
+      out.append(fmt::format(", \"free_energy\": \"quasi-harmonic\", \"temperature\": {:.17g}",
+                             *o.quasi_harmonic));
     if (!st.shift.empty()) {
       Eigen::MatrixXd sh(lat.basis, 3);
       for (int q = 0; q < lat.basis; ++q)
@@ -127,7 +150,14 @@ int run(const Options& o) {
   std::printf("%s: %s body, dimension %d, units %s\n", o.body.c_str(),
               std::string(to_string(b.kind)).c_str(), b.dimension, u.c_str());
   std::printf("lattice: %s\n", lat.summary.c_str());
-  if (cb.relaxing())
+  if (o.quasi_harmonic)
+    std::printf(
+        "free energy: quasi-harmonic at T = %g (W_T = W + k_B T Σ ln(ω/k_B T) / V₀ of the cell's "
+        "%zu vibrations; its vibrational part by central differences in E)\n",
+        *o.quasi_harmonic, 3 * b.size() - 3);
+  if (qh && lat.bravais())
+    std::printf("ion relaxation: none needed (Bravais lattice; every atom at F x)\n");
+  else if (cb.relaxing())
     std::printf(
         "ion relaxation: relaxed (sublattice shifts minimise W at F: %d Newton steps; "
         "--clamped-ion for the clamped values)\n",
@@ -148,11 +178,11 @@ int run(const Options& o) {
   else
     std::printf("stresses and constants in %s: %s units have no GPa value\n", unit.c_str(),
                 u.c_str());
-  std::printf("W(F) = %.10g %s (energy/volume)\n", st.W, unit.c_str());
+  std::printf("%s = %.10g %s (energy/volume)\n", qh ? "W_T(F)" : "W(F)", st.W, unit.c_str());
   std::printf("second Piola–Kirchhoff stress S = F⁻¹P [%s]:\n", unit.c_str());
   for (int r = 0; r < 3; ++r) std::printf("  %14.7g %14.7g %14.7g\n", S(r, 0), S(r, 1), S(r, 2));
-  std::printf("C_IJ = ∂²W/∂E_I∂E_J, %s-ion (Voigt 11 22 33 23 13 12) [%s]:\n", ion_name,
-              unit.c_str());
+  std::printf("C_IJ = ∂²%s/∂E_I∂E_J, %s-ion (Voigt 11 22 33 23 13 12) [%s]:\n", qh ? "W_T" : "W",
+              ion_name, unit.c_str());
   for (int r = 0; r < 6; ++r) {
     std::printf(" ");
     for (int c = 0; c < 6; ++c) std::printf(" %13.6g", C(r, c));
@@ -204,6 +234,13 @@ pdcg::cli::Registration reg(140, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_flag("--clamped-ion", o->clamped,
                 "Clamped-ion constants: every atom follows F (default: relaxed-ion, the basis of "
                 "a crystal with a basis relaxed; needs a perfect crystal)");
+  sub->add_option("--quasi-harmonic", o->quasi_harmonic,
+                  "Isothermal constants of the classical quasi-harmonic free energy W_T(F) at "
+                  "this temperature (kelvin; k_B T/ε in units lj): periodic 3D delta body of a "
+                  "crystal cell, ≤ 3000 atoms (docs/temperature.md)");
+  sub->add_option("--quasi-harmonic-step", o->quasi_harmonic_step,
+                  "Central-difference step in the Green–Lagrange strain of the vibrational part "
+                  "(default 1e-4; larger steps average over the knots of tabulated potentials)");
   sub->add_flag(
       "--critical", o->critical,
       "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");

@@ -2,6 +2,8 @@
 /// energy per reference volume under the homogeneous deformation y = F x (H_y = F H); with
 /// --stress also the first Piola–Kirchhoff stress P = ∂W/∂F (Evaluator::stress: for statistical
 /// bodies the expected value, at F = I minus the virial part of LAMMPS's pressure tensor).
+/// --quasi-harmonic T: also the quasi-harmonic free energy density W_T(F), with --stress its
+/// stress P_T = ∂W_T/∂F (body::QuasiHarmonicCauchyBorn; docs/temperature.md §3.1).
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -45,6 +47,16 @@ int run(const Options& o) {
         q.free_energy_density, q.sum_ln_omega, *o.quasi_harmonic);
     qh_text = fmt::format("free_energy_density {:.17g} {}\nsum_ln_omega {:.17g}\n",
                           q.free_energy_density, dens_unit, q.sum_ln_omega);
+    if (o.stress) {  // P_T = ∂W_T/∂F of the quasi-harmonic material (13 Hessians)
+      const Eigen::Matrix3d PT =
+          body::QuasiHarmonicCauchyBorn(b, *o.quasi_harmonic).evaluate(F, false).P;
+      std::string v;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) v += fmt::format("{}{:.17g}", r + c ? ", " : "", PT(r, c));
+      qh_json += fmt::format(", \"free_energy_stress\": [{}]", v);
+      std::erase(v, ',');
+      qh_text += fmt::format("free_energy_stress {} {}\n", v, dens_unit);
+    }
   }
   std::string stress_json, stress_text;
   if (o.stress) {
@@ -79,10 +91,12 @@ pdcg::cli::Registration reg(115, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_flag("--stress", o->stress,
                 "Also the first Piola–Kirchhoff stress P = dW/dF (9 numbers row-major, energy per "
                 "reference volume; statistical bodies: expected value)");
-  sub->add_option("--quasi-harmonic", o->quasi_harmonic,
-                  "Also the classical quasi-harmonic free energy density W_T(F) at this "
-                  "temperature (periodic 3D delta bodies of up to 3000 atoms; hbar = 1: defined up "
-                  "to an F-independent constant; docs/temperature.md)");
+  sub->add_option(
+      "--quasi-harmonic", o->quasi_harmonic,
+      "Also the classical quasi-harmonic free energy density W_T(F) at this "
+      "temperature (periodic 3D delta bodies of up to 3000 atoms; hbar = 1: defined up "
+      "to an F-independent constant; docs/temperature.md); with --stress also its stress "
+      "P_T = dW_T/dF (free_energy_stress)");
   sub->footer("Example:\n  pdcg energy body.h5 --F \"1.01 0 0 0 1 0 0 0 1\" --json");
   return [o] { return run(*o); };
 });

@@ -10,11 +10,18 @@ namespace pdcg::scene {
 
 namespace {
 
+/// `temperature: T, free_energy: quasi-harmonic` of the Cauchy–Born material
+/// (docs/temperature.md §3.1): the isothermal material W_T(F) of the model file's crystal cell.
+struct FreeEnergyKeys {
+  std::string free_energy = "none";
+  double temperature = 0.0;
+};
+
 // `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
 // read here once so that a bad file, a statistical body or a dimension mismatch is an input
 // error of the scene (with its line), not a failure at run time.
 void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::path& scene_file,
-                      Scene& s) {
+                      Scene& s, FreeEnergyKeys& fe) {
   for (const char* k : {"shear_modulus", "bulk_modulus"})
     if (m[k])
       throw c
@@ -91,6 +98,42 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
     }
     s.material_ion_relaxation = v;
   }
+  if (m["free_energy"]) {
+    fe.free_energy = c.choice(m["free_energy"], "material.free_energy", {"none", "quasi-harmonic"});
+  }
+  if (m["temperature"]) {
+    fe.temperature = c.number(m["temperature"], "material.temperature");
+    if (!(fe.temperature >= 0.0))
+      throw c.err(m["temperature"], "material.temperature", "a temperature must be ≥ 0")
+          .value(m["temperature"].Scalar())
+          .expected(fmt::format("T ≥ 0 in the model's temperature unit ({})",
+                                b->units == UnitStyle::lj ? "k_B T/ε in units lj" : "kelvin"));
+    if (fe.free_energy != "quasi-harmonic")
+      throw c
+          .err(m["temperature"], "material.temperature",
+               "a temperature needs a free energy: the static Cauchy–Born material has none")
+          .fix("add free_energy: quasi-harmonic, or remove material.temperature");
+  }
+  if (fe.free_energy == "quasi-harmonic") {
+    if (!m["temperature"])
+      throw c.err(m["free_energy"], "material.temperature", "missing key")
+          .expected(
+              "the temperature of the quasi-harmonic free energy, e.g. temperature: 300 "
+              "(kelvin; k_B T/ε in units lj)");
+    for (const char* k : {"per_point", "ion_relaxation"})
+      if (m[k])
+        throw c
+            .err(m[k], std::string("material.") + k,
+                 "the quasi-harmonic material is the body-level free energy of the crystal cell "
+                 "with every atom at F x")
+            .fix(fmt::format("remove material.{}", k));
+    try {  // refused here, with the line: not a periodic 3D delta body, too many atoms, a basis
+      body::QuasiHarmonicCauchyBorn probe(*b, fe.temperature);
+      (void)probe;
+    } catch (InputError& e) {
+      throw e.line(m["free_energy"].Mark().line + 1).key("material.free_energy");
+    }
+  }
   if (s.material_per_point) {
     if (!s.model_geometry)
       throw c
@@ -157,17 +200,23 @@ class NeoHookeanModel final : public MaterialModel {
 class CauchyBornModel final : public MaterialModel {
  public:
   std::vector<std::string> keys() const override {
-    return {"density", "file", "per_point", "ion_relaxation"};
+    return {"density", "file", "per_point", "ion_relaxation", "free_energy", "temperature"};
   }
   void parse(const Reader& r, const Node& m, Scene& s) override {
-    load_cauchy_born(Ctx{r.file()}, m.yaml(), std::filesystem::path(r.file()), s);
+    load_cauchy_born(Ctx{r.file()}, m.yaml(), std::filesystem::path(r.file()), s, fe_);
   }
   void resolve(Emitter& out, const Scene& s) const override {
     out.value("file", s.material_file.string());
+    if (fe_.free_energy == "quasi-harmonic") {
+      out.value("free_energy", fe_.free_energy).value("temperature", fe_.temperature);
+      return;
+    }
     if (s.material_per_point) out.value("per_point", true);
     if (!s.material_per_point) out.value("ion_relaxation", s.material_ion_relaxation);
   }
   std::unique_ptr<solver::Material> make(const Scene& s) const override {
+    if (fe_.free_energy == "quasi-harmonic")
+      return body::QuasiHarmonicCauchyBornMaterial::from_file(s.material_file, fe_.temperature);
     if (s.material_per_point)
       return std::make_unique<body::PerPointCauchyBornMaterial>(
           std::make_shared<const body::Body>(body::read_body(s.material_file)),
@@ -177,6 +226,9 @@ class CauchyBornModel final : public MaterialModel {
                                                               : body::IonRelaxation::automatic;
     return body::CauchyBornMaterial::from_file(s.material_file, ion);
   }
+
+ private:
+  FreeEnergyKeys fe_;
 };
 
 /// The model of a scene: the parsed one, or a fresh one of s.material_model (a Scene built in

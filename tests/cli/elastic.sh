@@ -85,4 +85,26 @@ rc=$?
 grep -q -- "--F" bad.out || { echo "message does not name --F"; cat bad.out; fail=1; }
 "$pdcg" elastic cu.h5 --fit 1.05 --critical > text.out || fail=1
 grep -q "neo-Hookean fit" text.out || { echo "no fit in text output"; fail=1; }
+# --quasi-harmonic T (docs/temperature.md §3.1): T = 0 is the static lattice (Bravais: the same
+# constants as above); at 300 K the isothermal constants are softer and the JSON says which;
+# what it cannot do is exit 2 naming the option or the body
+"$pdcg" elastic cu.h5 --quasi-harmonic 0 --json > qh0.json || { echo "elastic --quasi-harmonic 0 failed"; fail=1; }
+"$pdcg" elastic cu.h5 --quasi-harmonic 300 --quasi-harmonic-step 1e-2 --json > qh300.json || { echo "elastic --quasi-harmonic 300 failed"; fail=1; }
+python3 - <<'PY' || fail=1
+import json
+c, q0, q = (json.load(open(f))["C_voigt"] for f in ("cu.json", "qh0.json", "qh300.json"))
+t = json.load(open("qh300.json"))
+dev = max(abs(q0[i][j] - c[i][j]) for i in range(6) for j in range(6)) / c[0][0]
+print(f"  quasi-harmonic T = 0 vs static: {dev:.1e}; 300 K C11 {q[0][0]:.6f} vs {c[0][0]:.6f} eV/A^3")
+ok = dev < 1e-12  # same analytic static part, no vibrational term at T = 0
+ok &= t["free_energy"] == "quasi-harmonic" and t["temperature"] == 300
+ok &= q[0][0] < c[0][0] and q[3][3] < c[3][3]  # thermal softening (Cu: ≈ −1 % at 300 K)
+raise SystemExit(0 if ok else 1)
+PY
+for args in "cu.h5 --quasi-harmonic 300 --fit 1.05:--fit" "hom.h5 --quasi-harmonic 300:delta body" \
+  "cu.h5 --quasi-harmonic 300000:beyond melting"; do
+  "$pdcg" elastic ${args%%:*} > bad.out 2>&1
+  rc=$?
+  [ $rc -eq 2 ] && grep -q -- "${args#*:}" bad.out || { echo "elastic ${args%%:*}: exit $rc"; cat bad.out; fail=1; }
+done
 exit $fail

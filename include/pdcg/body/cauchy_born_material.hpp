@@ -29,6 +29,7 @@
 
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/body/quasi_harmonic.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/solver/material.hpp"
@@ -117,6 +118,57 @@ class CauchyBornMaterial final : public solver::Material {
   std::shared_ptr<const Body> body_;
   std::shared_ptr<const CauchyBorn>
       cb_;  // holds a reference to *body_ (shared, so clones stay valid)
+  std::string source_;
+};
+
+/// The quasi-harmonic Cauchy–Born material at temperature T (docs/temperature.md §3.1; the scene's
+/// `material: {model: cauchy-born, file: …, temperature: T, free_energy: quasi-harmonic}`):
+/// Ψ(F) = W_T(F), P and A of body::QuasiHarmonicCauchyBorn (static part analytic, vibrational
+/// part central differences in E). 3D periodic delta bodies only (≤ 3000 atoms); every
+/// evaluation diagonalises the cell's dense (3N)² Hessian 13 times (73 with the tangent), so it
+/// is meant for small cells of the crystal. A lattice that is unstable at F (ω² ≤ 0) is an
+/// inadmissible state for the solver (false, one warning).
+class QuasiHarmonicCauchyBornMaterial final : public solver::Material {
+ public:
+  QuasiHarmonicCauchyBornMaterial(std::shared_ptr<const Body> body, double temperature,
+                                  std::string source = {})
+      : body_(std::move(body)),
+        qh_(std::make_shared<QuasiHarmonicCauchyBorn>(*body_, temperature)),
+        source_(std::move(source)) {}
+  static std::unique_ptr<QuasiHarmonicCauchyBornMaterial> from_file(const std::string& path,
+                                                                    double temperature) {
+    return std::make_unique<QuasiHarmonicCauchyBornMaterial>(
+        std::make_shared<const Body>(read_body(path)), temperature, path);
+  }
+  int dimension() const override { return 3; }
+  bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P,
+                solver::Tangent* A) const override {
+    if (!(F.determinant() > 0.0)) return false;
+    CauchyBornState s;
+    try {
+      s = qh_->evaluate(F, A != nullptr);
+    } catch (const NumericalError& e) {  // unstable lattice: an inadmissible state
+      static std::atomic<bool> said{false};
+      if (!said.exchange(true))
+        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+      return false;
+    }
+    return detail::copy_cauchy_born_state(s, 1.0, 3, psi, P, A);
+  }
+  solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override { return F; }
+  std::string name() const override {
+    std::string n = fmt::format("cauchy-born quasi-harmonic (T = {}", qh_->temperature());
+    if (!source_.empty()) n.append(", ").append(source_);
+    return n.append(")");
+  }
+  std::unique_ptr<solver::Material> clone() const override {
+    return std::make_unique<QuasiHarmonicCauchyBornMaterial>(*this);
+  }
+  const QuasiHarmonicCauchyBorn& quasi_harmonic() const { return *qh_; }
+
+ private:
+  std::shared_ptr<const Body> body_;
+  std::shared_ptr<const QuasiHarmonicCauchyBorn> qh_;  // refers to *body_ (shared)
   std::string source_;
 };
 

@@ -7,11 +7,22 @@
 /// ħ is set to 1 in the body's units: W_T is defined up to the constant (3N − 3) k_B T ln ħ / V₀,
 /// which no derivative with respect to F sees (stress and elastic constants are exact).
 /// The Hessian is dense (3N)²: bodies of up to 3000 atoms (a supercell of the crystal).
+///
+/// As a material (QuasiHarmonicCauchyBorn): W_T(F), P_T = ∂W_T/∂F and A_T = ∂P_T/∂F. The static
+/// part W(F) = U/V₀ and its derivatives are the analytic Cauchy–Born ones (cauchy_born.hpp,
+/// clamped ion); the vibrational part (k_B T/V₀) S(F), S = Σ_i ln ω_i, is differentiated by
+/// central differences. S depends on F through C = FᵀF only (the eigenvalues of a rotated
+/// lattice are those of the lattice), so the differences are taken in the Green–Lagrange strain
+/// E = ½(C − I), at F(E) = (I + 2E)^½: ∂S/∂E from 12 evaluations, ∂²S/∂E∂E from 60 more
+/// (73 dense eigenvalue problems for W, P and A; 13 without A), then
+///   P_th = (k_B T/V₀) F ∂S/∂E,  A_th,iJkL = (k_B T/V₀) [δ_ik ∂S/∂E_JL + F_iM F_kN ∂²S/∂E_MJ∂E_NL].
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 
 #include "pdcg/body/body.hpp"
+#include "pdcg/body/cauchy_born.hpp"
 
 namespace pdcg::body {
 
@@ -26,5 +37,27 @@ struct QuasiHarmonic {
 /// more than 3000 atoms, for T < 0 or not finite; NumericalError when the lattice at F is
 /// unstable (a vibrational ω² ≤ 0: the free energy does not exist there).
 QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double temperature);
+
+/// The quasi-harmonic Cauchy–Born material at temperature T (header comment): W_T, P_T and
+/// (if asked) A_T at F. `strain_step` is the central-difference step h in E of the
+/// vibrational part (default 1e-4: truncation O(h²) ≈ 1e-8 relative, round-off ≈ 1e-16 |S|/h²
+/// ≈ 1e-8 relative of ∂²S for cells of a few hundred atoms; docs/temperature.md §3.1).
+/// Throws InputError for what quasi_harmonic() refuses, for a crystal whose basis would relax
+/// under F (the free energy is minimised over the atoms held at Fx only: Bravais lattices and
+/// crystals whose every atom is a centre of inversion), and for h outside (0, 0.01].
+class QuasiHarmonicCauchyBorn {
+ public:
+  QuasiHarmonicCauchyBorn(const Body& body, double temperature, double strain_step = 1e-4);
+  CauchyBornState evaluate(const Eigen::Matrix3d& F, bool tangent = true) const;
+  /// S(F) = Σ_i ln ω_i(F) (NumericalError where the lattice is unstable).
+  double sum_ln_omega(const Eigen::Matrix3d& F) const;
+  double temperature() const { return temperature_; }
+  const CauchyBorn& cauchy_born() const { return cb_; }
+
+ private:
+  const Body& body_;
+  CauchyBorn cb_;
+  double temperature_, kT_, step_;
+};
 
 }  // namespace pdcg::body

@@ -22,10 +22,12 @@
 #include <string>
 #include <vector>
 
+#include "../atomistic/potential_test_util.hpp"
 #include "pdcg/atomistic/configurations.hpp"
 #include "pdcg/atomistic/potential_file.hpp"
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/build.hpp"
+#include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/quasi_harmonic.hpp"
 #include "pdcg/body/statistics.hpp"
 #include "pdcg/core/error.hpp"
@@ -397,4 +399,137 @@ TEST(Temperature, QuasiHarmonicPressureIsThatOfLammpsHessians) {
   const std::string m =
       message_of([&] { body::quasi_harmonic(g, Eigen::Matrix3d::Identity(), T); });
   EXPECT_NE(m.find("delta body"), std::string::npos) << m;
+}
+
+TEST(Temperature, QuasiHarmonicConstantsAreThoseOfLammpsHessians) {
+  // Reference: workflows/temperature/qha_elastic.py lj lattice.dump 0.2 h, h = 1e-3 and 5e-4,
+  // Richardson-extrapolated (O(h²) central differences in E): C_IJ = (1/V₀) ∂²/∂E_I∂E_J of
+  // LAMMPS's pe (static) and of k_B T Σ ln ω from LAMMPS Hessians (thermal), this 32-atom cell.
+  const double static_ref[3] = {97.712059, 55.626631, 55.626630};       // C11, C12, C44
+  const double thermal_ref[3] = {0.99935231, -0.70868752, 1.01382835};  // at T* = 0.2
+  FrameSet s = load("lattice.dump", "0:0");
+  const body::Body b = build(s, "");
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const body::QuasiHarmonicCauchyBorn qh(b, 0.2);
+  const body::CauchyBornState st = qh.evaluate(I);
+  const body::Matrix6d C = body::voigt_elastic_constants(I, st);
+  const body::Matrix6d C0 =
+      body::voigt_elastic_constants(I, body::QuasiHarmonicCauchyBorn(b, 0.0).evaluate(I));
+  const int idx[3][2] = {{0, 0}, {0, 1}, {3, 3}};
+  for (int q = 0; q < 3; ++q) {
+    const double total = C(idx[q][0], idx[q][1]), stat = C0(idx[q][0], idx[q][1]);
+    std::printf("C%s: pdcg static %.7f thermal %.8f; LAMMPS %.7f, %.8f\n",
+                q == 0   ? "11"
+                : q == 1 ? "12"
+                         : "44",
+                stat, total - stat, static_ref[q], thermal_ref[q]);
+    // static: analytic vs LAMMPS FD extrapolated (residual O(h⁴) ≈ 1e-6 relative)
+    EXPECT_TRUE(test::close(stat, static_ref[q], {0, 1e-6}));
+    // thermal: pdcg's FD (h = 1e-4) vs the extrapolated reference; the reference's spread
+    // between h = 1e-3 and 5e-4 is 3e-5 relative, after extrapolation ≈ 1e-5: 1e-4 relative
+    EXPECT_TRUE(test::close(total - stat, thermal_ref[q], {0, 1e-4}));
+  }
+  // the stress of the same FD: p = −tr P / 3 at F = I is qha.py's pressure of this cell
+  // (QuasiHarmonicPressureIsThatOfLammpsHessians: 1.8680360, central differences in volume)
+  EXPECT_TRUE(test::close(-st.P.trace() / 3, 1.8680360, {0, 1e-5}));
+  // W_T is quasi_harmonic()'s, and A has the major symmetry of a second derivative
+  EXPECT_TRUE(test::close(st.W, body::quasi_harmonic(b, I, 0.2).free_energy_density, {0, 1e-13}));
+  EXPECT_LT((st.A - st.A.transpose()).cwiseAbs().maxCoeff(), 1e-6 * st.A.cwiseAbs().maxCoeff());
+  // A = ∂P/∂F at a general F: central differences of P (step 1e-5; FD of an FD: 1e-4 of |A|)
+  Eigen::Matrix3d F;
+  F << 1.004, 0.003, -0.002, 0.001, 0.997, 0.002, -0.003, 0.001, 1.002;
+  const body::CauchyBornState sf = qh.evaluate(F);
+  double worst = 0.0;
+  for (int k = 0; k < 3; ++k)
+    for (int L = 0; L < 3; ++L) {
+      Eigen::Matrix3d d = Eigen::Matrix3d::Zero();
+      d(k, L) = 1e-5;
+      const Eigen::Matrix3d dP = (qh.evaluate(F + d, false).P - qh.evaluate(F - d, false).P) / 2e-5;
+      for (int i = 0; i < 3; ++i)
+        for (int J = 0; J < 3; ++J)
+          worst = std::max(worst, std::abs(dP(i, J) - sf.A(3 * i + J, 3 * k + L)));
+    }
+  std::printf("max |A − ΔP/ΔF| at a general F: %.3g (|A| %.3g)\n", worst,
+              sf.A.cwiseAbs().maxCoeff());
+  EXPECT_LT(worst, 1e-4 * sf.A.cwiseAbs().maxCoeff());
+}
+
+TEST(Temperature, QuasiHarmonicMaterialRefusesWhatItCannotDo) {
+  const FrameSet s = load("lattice.dump", "0:0");
+  const body::Body b = build(s, "");
+  auto has = [](const std::string& m, const char* what) {
+    return m.find(what) != std::string::npos;
+  };
+  // a temperature in kelvin on an lj body: far beyond melting, with the units named
+  std::string m = message_of([&] { body::QuasiHarmonicCauchyBorn(b, 300.0); });
+  EXPECT_TRUE(has(m, "beyond melting") && has(m, "units lj") && has(m, "kelvin")) << m;
+  EXPECT_NO_THROW(body::QuasiHarmonicCauchyBorn(b, 0.4));  // LJ fcc melts near 0.7
+  m = message_of([&] { body::QuasiHarmonicCauchyBorn(b, -1.0); });
+  EXPECT_TRUE(has(m, "non-negative")) << m;
+  m = message_of([&] { body::QuasiHarmonicCauchyBorn(b, 0.2, 0.0); });
+  EXPECT_TRUE(has(m, "strain step")) << m;
+  // statistical body
+  const FrameSet f = load();
+  m = message_of([&] { body::QuasiHarmonicCauchyBorn(build(f, "empirical"), 0.2); });
+  EXPECT_TRUE(has(m, "periodic 3D delta body") && has(m, "statistical body")) << m;
+  // non-periodic cell
+  auto lj_body = [&](atomistic::Atoms at) {
+    body::BodyRequest r;
+    r.delta.source = "test";
+    r.family_cutoff = kFamily;
+    std::vector<atomistic::Atoms> v{std::move(at)};
+    return body::build_body(v, s.pot, s.spec, r);
+  };
+  atomistic::Atoms open = test::cubic_lattice(2, 2, 2, 1.5496, 4, 0.0, false, 0);
+  open.box.periodic = {true, true, false};
+  m = message_of([&] { body::QuasiHarmonicCauchyBorn(lj_body(open), 0.2); });
+  EXPECT_TRUE(has(m, "periodic 3D delta body") && has(m, "periodic xy")) << m;
+  // too many atoms for the dense Hessian (10³ cells, 4000 atoms)
+  atomistic::Atoms big = test::cubic_lattice(10, 10, 10, 1.5496, 4, 0.0, false, 0);
+  big.box.periodic = {true, true, true};
+  m = message_of([&] { body::QuasiHarmonicCauchyBorn(lj_body(big), 0.2); });
+  EXPECT_TRUE(has(m, "too large") && has(m, "4000 atoms")) << m;
+  // a crystal whose basis would relax (diamond): the free energy at F x only is refused
+  atomistic::Atoms diamond = test::cubic_lattice(2, 2, 2, 2.2, 8, 0.0, false, 0);
+  diamond.box.periodic = {true, true, true};
+  m = message_of([&] { body::QuasiHarmonicCauchyBorn(lj_body(diamond), 0.05); });
+  EXPECT_TRUE(has(m, "basis would relax")) << m;
+}
+
+TEST(Temperature, QuasiHarmonicConstantsOfEamAreThoseOfLammpsHessians) {
+  // Cu (Cu_u3.eam), 2×2×2 cubic cells (32 atoms, a = 3.615 Å), T = 600 K. Reference:
+  // workflows/temperature/qha_elastic.py cu cu2.dump 600 1e-3 (the cell written by LAMMPS
+  // `lattice fcc 3.615`): the thermal part (k_B T/V₀) ∂²Σ ln ω/∂E∂E from LAMMPS Hessians with
+  // strain step 1e-3. The same step here: the EAM splines are C¹, so the thermal stiffness of a
+  // tabulated potential depends on the step once it spans a knot (docs/temperature.md §3); with
+  // equal steps both sides difference the same S(E) at the same strains.
+  const auto path = atomistic::find_potential_file("Cu_u3.eam");
+  if (!path) GTEST_SKIP() << "Cu_u3.eam not found (LAMMPS potentials)";
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units metal\nmass 1 63.55\npair_style eam\npair_coeff 1 1 " + *path + "\n", "cu", 1);
+  const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  atomistic::Atoms at = test::cubic_lattice(2, 2, 2, 3.615, 4, 0.0, false, 0);
+  at.box.periodic = {true, true, true};
+  const body::Body b =
+      body::make_delta_body(at, pot, spec, {.dimension = 3, .cutoff = 0.0, .source = "cu"});
+  const double thermal_ref[3] = {-0.08431079816, -0.04981207187, -0.0408481523};  // eV/Å³
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const body::Matrix6d C =
+      body::voigt_elastic_constants(I, body::QuasiHarmonicCauchyBorn(b, 600.0, 1e-3).evaluate(I));
+  const body::Matrix6d C0 = body::voigt_elastic_constants(I, body::CauchyBorn(b).evaluate(I));
+  const int idx[3][2] = {{0, 0}, {0, 1}, {3, 3}};
+  for (int q = 0; q < 3; ++q) {
+    const double thermal = C(idx[q][0], idx[q][1]) - C0(idx[q][0], idx[q][1]);
+    std::printf("Cu 600 K thermal C%s: pdcg %.10f, LAMMPS Hessians %.10f eV/Å³\n",
+                q == 0   ? "11"
+                : q == 1 ? "12"
+                         : "44",
+                thermal, thermal_ref[q]);
+    // LAMMPS's Hessian is a central difference of forces (step 1e-5 Å: ≈ 1e-10 relative),
+    // divided by h² = 1e-6 in the second difference: ≈ 1e-4 relative
+    EXPECT_TRUE(test::close(thermal, thermal_ref[q], {0, 1e-4}));
+  }
+  // static C11 vs LAMMPS pe differences (1.043987163 at h = 1e-3, 1.043984438 at 5e-4:
+  // extrapolated 1.0439835297, residual O(h⁴))
+  EXPECT_TRUE(test::close(C0(0, 0), 1.0439835297, {0, 1e-7}));
 }

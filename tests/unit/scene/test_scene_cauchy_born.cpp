@@ -18,6 +18,7 @@
 #include "pdcg/atomistic/potentials.hpp"
 #include "pdcg/body/cauchy_born.hpp"
 #include "pdcg/body/model_file.hpp"
+#include "pdcg/body/quasi_harmonic.hpp"
 #include "pdcg/coarsen/rescale.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/scene/scene.hpp"
@@ -277,4 +278,52 @@ TEST(SceneCauchyBorn, IonRelaxationKeyAndModelUnits) {
   has(units, "material.file");
   has(units, "units metal");
   has(units, "set units: metal");
+}
+
+TEST(SceneCauchyBorn, QuasiHarmonicFreeEnergyKeys) {
+  // material: {model: cauchy-born, file: fcc.h5, free_energy: quasi-harmonic, temperature: T}
+  // is body::QuasiHarmonicCauchyBorn of the model at T (docs/temperature.md §3)
+  const fs::path fcc = fcc_model();  // 108 atoms, periodic: a 324² Hessian per evaluation
+  const body::Body b = body::read_body(fcc);
+  auto scene3d = [](const std::string& extra) {
+    return "units: lj\ndimension: 3\n"
+           "geometry: {shape: box, origin: [0, 0, 0], size: [3, 3, 3], spacing: 1.0}\n"
+           "material: {model: cauchy-born, file: fcc.h5" +
+           extra +
+           "}\n"
+           "boundary:\n  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0}}\n";
+  };
+  Eigen::Matrix3d F;
+  F << 1.004, 0.006, -0.003, 0.002, 0.997, 0.005, -0.004, 0.001, 1.003;
+  const body::QuasiHarmonicCauchyBorn qh(b, 0.1);
+  const body::CauchyBornState ref = qh.evaluate(F);
+  const auto s = scene::load_scene(
+      write("qh.yaml", scene3d(", free_energy: quasi-harmonic, temperature: 0.1")));
+  const auto mat = scene::make_material(s);
+  EXPECT_NE(mat->name().find("quasi-harmonic"), std::string::npos) << mat->name();
+  double psi = 0;
+  solver::Mat3 P;
+  solver::Tangent A;
+  ASSERT_TRUE(mat->evaluate(F, &psi, &P, &A));
+  // the same code path: equal to round-off
+  EXPECT_NEAR(psi, ref.W, 1e-12 * std::abs(ref.W));
+  EXPECT_LE((P - ref.P).norm(), 1e-12 * ref.P.norm());
+  EXPECT_LE((A - ref.A).norm(), 1e-12 * ref.A.norm());
+  // and not the static material: the thermal stress is there (p ≈ 1 at T* = 0.1)
+  const body::CauchyBorn cb(b);
+  EXPECT_GT((P - cb.evaluate(F, false).P).norm(), 0.1);
+  auto has = [](const std::string& msg, const std::string& what) {
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  };
+  const std::string no_fe = error_of(scene3d(", temperature: 0.1"));
+  has(no_fe, "material.temperature");
+  has(no_fe, "free_energy: quasi-harmonic");
+  has(error_of(scene3d(", free_energy: quasi-harmonic")), "material.temperature");
+  has(error_of(scene3d(", free_energy: harmonic, temperature: 0.1")), "none, quasi-harmonic");
+  has(error_of(scene3d(", free_energy: quasi-harmonic, temperature: -1")), "≥ 0");
+  const std::string kelvin = error_of(scene3d(", free_energy: quasi-harmonic, temperature: 300"));
+  has(kelvin, "material.free_energy");
+  has(kelvin, "beyond melting");
+  has(error_of(scene3d(", free_energy: quasi-harmonic, temperature: 0.1, ion_relaxation: clamped")),
+      "remove material.ion_relaxation");
 }
