@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Quasi-static rupture to separation (docs/effects.md §2, "Unstable passes"): the 50 x 50
-# edge-cracked sheet of edge_2500.yaml (50 load steps, top grip to u_y = 0.5) run twice
+# Quasi-static rupture to separation (docs/effects.md §2, "Unstable passes", "Free
+# fragments", "Factor reuse"): the 50 x 50 edge-cracked sheet of
+# workflows/rupture/edge_2500.yaml (50 load steps, top grip to u_y = 0.5) run twice
 # with the same binary:
 #   pseudo_transient  the default: free fragments parked (rupture.fragments: anchor); a
 #                     staggered pass that Newton cannot re-equilibrate falls back to
@@ -15,7 +16,7 @@
 # steps written, bonds broken, staggered passes, Newton / pseudo-transient / ADR iterations,
 # the passes that needed a fallback, and CPU seconds per broken bond. The machine's load
 # average is printed: wall times on a shared machine scale with it; CPU times much less.
-#   workflows/rupture/bench_separation.sh [OUT=build/rupture-separation]
+#   workflows/bench/bench_separation.sh [OUT=build/rupture-separation]
 # Environment: SPACING (default 0.02; 0.01 gives the 10^4-point sheet), LIMIT seconds per
 # run (default 1200), CASES (default "pseudo_transient free_fragments"), OMP_NUM_THREADS (1).
 set -uo pipefail
@@ -36,7 +37,7 @@ for c in ${CASES:-pseudo_transient free_fragments}; do
     *) keys="fallback: $c" ;;
   esac
   sed -e "s/spacing: 0.02/spacing: $SPACING/" -e "s/critical: 2.0}/critical: 2.0, $keys}/" \
-    "$HERE/edge_2500.yaml" >"$OUT/$c.yaml"
+    "$HERE/../rupture/edge_2500.yaml" >"$OUT/$c.yaml"
   rm -rf "${OUT:?}/$c"
   load0=$(cut -d' ' -f1 /proc/loadavg)
   /usr/bin/time -f "%U %S %e" -o "$OUT/$c.time" timeout "$LIMIT" \
