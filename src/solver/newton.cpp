@@ -524,7 +524,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       }
       case LinearSolver::umfpack: {
         const SerialBlas serial;
-        if (factor_reuse_ > 0 && S.umfpack_factored) {
+        if (factor_reuse_ > 0 && S.umfpack_factored && S.analysed) {
           // Factor reuse (rupture passes, docs/effects.md §2): GMRES on K_ff preconditioned
           // by the last factor, a tangent a few broken bonds or a load increment away; a new
           // factorisation only if it does not reach the forcing term of the direct solve's
@@ -541,6 +541,10 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
           const GmresReport g = S.gmres.solve(apply_K, apply_M, rhs, dx, eta, factor_reuse_);
           rep.krylov_iterations += g.iterations;
           if (g.converged && dx.allFinite()) {
+            // an aged factor (more than a third of the budget spent, > 10 of the rupture
+            // passes' 30): factorise at the next iteration rather than pay more Krylov
+            // iterations on every later system
+            if (3 * g.iterations > factor_reuse_) S.umfpack_factored = false;
             mark();
             ok = true;
             break;

@@ -204,7 +204,8 @@ class StaticSolver {
   /// internal force of its converged states (docs/effects.md §2).
   void set_force_floor(double floor) { force_floor_ = floor; }
   /// linear: umfpack only: > 0 solves each Newton system by GMRES preconditioned by the last
-  /// factorisation, with at most this many products, and factorises only when that fails
+  /// factorisation, with at most this many products, and factorises when that fails (and
+  /// at the next iteration when GMRES needed more than a third of them: an aged factor)
   /// (rupture passes, docs/effects.md §2); 0 (default): a factorisation per iteration.
   void set_factor_reuse(int max_products) { factor_reuse_ = max_products; }
   int factor_reuse() const { return factor_reuse_; }
