@@ -349,7 +349,7 @@ class RuptureEffect final : public Effect {
                  "fragments chooses whether a quasi-static run parks free fragments; in a "
                  "dynamic run a fragment flies on with its velocity")
             .fix("remove fragments");
-      // docs/effects.md §2, "Free fragments": park them (default) or leave them free
+      // docs/effects.md §2, "Free fragments": park them, or leave them free (default)
       if (r["fragments"])
         s.rupture_options.anchor_fragments =
             c.choice(r["fragments"], "rupture.fragments", {"anchor", "free"}) == "anchor";
@@ -409,8 +409,8 @@ class RuptureEffect final : public Effect {
         y << YAML::Key << "max_passes" << YAML::Value << s.rupture_options.max_passes << YAML::Key
           << "fallback" << YAML::Value
           << (s.rupture_options.pseudo_transient ? "pseudo_transient" : "relaxation");
-      if (!s.inertia && !s.rupture_options.anchor_fragments)
-        y << YAML::Key << "fragments" << YAML::Value << "free";
+      if (!s.inertia && s.rupture_options.anchor_fragments)
+        y << YAML::Key << "fragments" << YAML::Value << "anchor";
       if (!s.inertia && s.rupture_options.factor_reuse > 0)
         y << YAML::Key << "factorisations" << YAML::Value << "reuse";
       y << YAML::EndMap;

@@ -245,18 +245,18 @@ TEST(Effects, RuptureFallbackKey) {
 }
 
 // rupture.fragments and rupture.factorisations (docs/effects.md §2, "Free fragments",
-// "Factor reuse"): free fragments parked and a factorisation per Newton iteration by
-// default; the alternatives on request; bad values name the choices; not in dynamics.
+// "Factor reuse"): fragments left free and a factorisation per Newton iteration by
+// default; the alternatives on request; bad values name the choices.
 TEST(Effects, RuptureFragmentsAndFactorisationsKeys) {
   const auto s0 = scene::load_scene(
       write("fr0.yaml", std::string(kBase) + "effects: [rupture]\nrupture: {critical: 2}\n"));
-  EXPECT_TRUE(s0.rupture_options.anchor_fragments);
+  EXPECT_FALSE(s0.rupture_options.anchor_fragments);
   EXPECT_EQ(s0.rupture_options.factor_reuse, 0);
   const auto s1 = scene::load_scene(
       write("fr1.yaml", std::string(kBase) +
-                            "effects: [rupture]\nrupture: {critical: 2, fragments: free, "
+                            "effects: [rupture]\nrupture: {critical: 2, fragments: anchor, "
                             "factorisations: reuse}\n"));
-  EXPECT_FALSE(s1.rupture_options.anchor_fragments);
+  EXPECT_TRUE(s1.rupture_options.anchor_fragments);
   EXPECT_EQ(s1.rupture_options.factor_reuse, s1.rupture_options.reuse_products);
   EXPECT_GT(s1.rupture_options.factor_reuse, 0);
   const auto e = error_of("effects: [rupture]\nrupture: {critical: 2, fragments: keep}\n");

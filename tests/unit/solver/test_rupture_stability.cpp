@@ -70,7 +70,7 @@ TEST(RuptureStability, ManyBrokenBondsAtACrackTipGiveNoNaN) {
 
 // A free fragment: at half the load, every bond crossing the boundary of the square
 // (0.35, 0.65)² breaks, so the (stressed) points inside hang together but on no grip. Its
-// rigid motions are null modes of K; with rupture.fragments = anchor (default) each of its
+// rigid motions are null modes of K; with rupture.fragments = anchor each of its
 // points is parked by a spring at its displacement when cut loose. Peer: the same broken
 // set with the fragment's points held by a prescribed displacement at those values instead.
 // The fragment exerts no force on the rest of the body in either, so the rest must reach the
@@ -128,12 +128,14 @@ TEST(RuptureStability, FreeFragmentIsParkedAndCarriesNoLoad) {
   NewtonOptions no;
   no.steps = 2;
   no.tolerance = 1e-11;
-  // parked by springs (the default), cut loose at t = 0.5
+  // parked by springs (rupture.fragments: anchor), cut loose at t = 0.5
   FragmentSheet a;
   Model model_a(a.body, *mat);
   const auto ds_a = a.grips();
   StaticSolver solver_a(model_a, ds_a, {}, no);
-  Rupture rup_a(a.body, model_a, {RuptureCriterion::bond_stretch, 10.0, 50});
+  RuptureOptions oa{RuptureCriterion::bond_stretch, 10.0, 50};
+  oa.anchor_fragments = true;
+  Rupture rup_a(a.body, model_a, oa);
   solver_a.advance_to(0.5);
   const Eigen::VectorXd u_cut = solver_a.displacement();
   a.cut();
