@@ -241,10 +241,10 @@ class RuptureEffect final : public Effect {
       if (!r)
         throw c.err(root["effects"], "rupture", "rupture is listed but has no settings")
             .expected("rupture: {criterion: bond_stretch, critical: 2.5}");
-      c.keys(
-          r, "rupture",
-          {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy",
-           "softening", "elastic_limit", "damage_tolerance", "max_damage_increment", "fallback"});
+      c.keys(r, "rupture",
+             {"criterion", "critical", "max_passes", "check_every", "G_c", "surface_energy",
+              "softening", "elastic_limit", "damage_tolerance", "max_damage_increment", "fallback",
+              "fragments", "factorisations"});
       if (r["criterion"])
         s.rupture_options.criterion = solver::parse_rupture_criterion(
             c.choice(r["criterion"], "rupture.criterion",
@@ -343,6 +343,26 @@ class RuptureEffect final : public Effect {
         s.rupture_options.pseudo_transient =
             c.choice(r["fallback"], "rupture.fallback", {"pseudo_transient", "relaxation"}) ==
             "pseudo_transient";
+      if (r["fragments"] && s.inertia)
+        throw c
+            .err(r["fragments"], "rupture.fragments",
+                 "fragments chooses whether a quasi-static run parks free fragments; in a "
+                 "dynamic run a fragment flies on with its velocity")
+            .fix("remove fragments");
+      // docs/effects.md §2, "Free fragments": park them, or leave them free (default)
+      if (r["fragments"])
+        s.rupture_options.anchor_fragments =
+            c.choice(r["fragments"], "rupture.fragments", {"anchor", "free"}) == "anchor";
+      if (r["factorisations"] && s.inertia)
+        throw c
+            .err(r["factorisations"], "rupture.factorisations",
+                 "factorisations applies to the Newton solves of quasi-static staggered passes")
+            .fix("remove factorisations");
+      // docs/effects.md §2, "Factor reuse": a factorisation per Newton iteration (default) or
+      // the last one reused as the GMRES preconditioner
+      if (r["factorisations"] && c.choice(r["factorisations"], "rupture.factorisations",
+                                          {"every_iteration", "reuse"}) == "reuse")
+        s.rupture_options.factor_reuse = solver::RuptureOptions{}.reuse_products;
       const bool stretch =
           s.rupture_options.criterion != solver::RuptureCriterion::energy_density && !griffith;
       if (stretch && !(s.rupture_options.critical > 1.0))
@@ -389,6 +409,10 @@ class RuptureEffect final : public Effect {
         y << YAML::Key << "max_passes" << YAML::Value << s.rupture_options.max_passes << YAML::Key
           << "fallback" << YAML::Value
           << (s.rupture_options.pseudo_transient ? "pseudo_transient" : "relaxation");
+      if (!s.inertia && s.rupture_options.anchor_fragments)
+        y << YAML::Key << "fragments" << YAML::Value << "anchor";
+      if (!s.inertia && s.rupture_options.factor_reuse > 0)
+        y << YAML::Key << "factorisations" << YAML::Value << "reuse";
       y << YAML::EndMap;
     }
   }

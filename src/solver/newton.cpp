@@ -75,6 +75,7 @@ struct StaticSolver::Solvers {
   Eigen::SparseLU<SparseCol> lu;
   Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double, SolverIndex>> bicg;
   bool analysed = false;
+  bool umfpack_factored = false;  // S.umfpack holds a numeric factor (of some earlier K)
   // gmres: lattice-stiffness preconditioner (factorised once) and the Krylov workspace
   Eigen::CholmodSupernodalLLT<SparseCol> lattice;
   bool lattice_ready = false;
@@ -523,10 +524,42 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       }
       case LinearSolver::umfpack: {
         const SerialBlas serial;
+        if (factor_reuse_ > 0 && S.umfpack_factored && S.analysed) {
+          // Factor reuse (rupture passes, docs/effects.md §2): GMRES on K_ff preconditioned
+          // by the last factor, a tangent a few broken bonds or a load increment away; a new
+          // factorisation only if it does not reach the forcing term of the direct solve's
+          // gmres path within factor_reuse_ products.
+          const double eta = std::min(
+              1e-4, std::max(rnorm * rnorm, 0.1 * opt_.tolerance / std::max(rnorm, 1e-300)));
+          const Gmres::Operator apply_K = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+            out.noalias() = A * in;
+            ++rep.operator_products;
+          };
+          const Gmres::Operator apply_M = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+            out = S.umfpack.solve(in);
+          };
+          const GmresReport g = S.gmres.solve(apply_K, apply_M, rhs, dx, eta, factor_reuse_);
+          rep.krylov_iterations += g.iterations;
+          if (g.converged && dx.allFinite()) {
+            // an aged factor (more than a third of the budget spent, > 10 of the rupture
+            // passes' 30): factorise at the next iteration rather than pay more Krylov
+            // iterations on every later system
+            if (3 * g.iterations > factor_reuse_) S.umfpack_factored = false;
+            mark();
+            ok = true;
+            break;
+          }
+          log::debug(
+              "  factor reuse: GMRES at {:.2e} after {} iterations (forcing {:.1e}); "
+              "new factorisation",
+              g.relative_residual, g.iterations, eta);
+        }
         if (!S.analysed) S.umfpack.analyzePattern(A);
         S.umfpack.factorize(A);
+        ++rep.factorisations;
         mark();
         ok = S.umfpack.info() == Eigen::Success;
+        S.umfpack_factored = ok;
         // e.g. −1 = out of memory (the int version addresses at most 2³¹ 8-byte units)
         if (!ok)
           log::warn("UMFPACK factorisation failed (status {}, matrix {} × {}, {} nonzeros)",

@@ -594,28 +594,82 @@ std::size_t Rupture::commit(const Eigen::VectorXd& u) {
 }
 
 void Rupture::update_anchors(const Eigen::VectorXd& u) {
-  // A point is coupled if some stencil of nonzero weight has a nonzero G at it.
+  // A point is coupled if some stencil of nonzero weight has a nonzero G at it. The members
+  // of such a stencil are coupled to each other: union-find over the points gives the
+  // pieces the body has broken into (anchor_fragments).
   const Discretization& B = *body_;
   const Stencils& S = B.bond_stencils();
   const int d = B.dimension();
-  std::vector<char> coupled(B.size(), 0);
+  const std::size_t N = B.size();
+  const bool fragments = opt_.anchor_fragments && held_.size() == static_cast<std::size_t>(d) * N;
+  std::vector<char> coupled(N, 0);
+  std::vector<int>& parent = fragment_parent_;
+  if (fragments) {
+    parent.resize(N);
+    for (std::size_t k = 0; k < N; ++k) parent[k] = static_cast<int>(k);
+  }
+  const auto root = [&parent](int k) {
+    while (parent[k] != k) k = parent[k] = parent[parent[k]];  // path halving
+    return k;
+  };
   for (std::size_t s = 0; s < S.size(); ++s) {
     if (!(S.weight[s] > 0)) continue;
+    int first = -1;
     for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
       const double* g = S.grad.data() + r * d;
       bool nz = false;
       for (int a = 0; a < d; ++a) nz = nz || g[a] != 0.0;
-      if (nz) coupled[S.index[r]] = 1;
+      if (!nz) continue;
+      const int m = S.index[r];
+      coupled[m] = 1;
+      if (!fragments) continue;
+      if (first < 0) {
+        first = root(m);
+      } else {
+        const int rm = root(m);
+        if (rm != first) parent[rm] = first;
+      }
     }
+  }
+  // A piece is held if one of its points has a prescribed component; a piece with none is a
+  // free fragment: it carries no load, and its rigid motions are null modes of K.
+  std::vector<char> held_piece;
+  if (fragments) {
+    held_piece.assign(N, 0);
+    for (std::size_t k = 0; k < N; ++k)
+      for (int a = 0; a < d; ++a)
+        if (held_[d * k + a]) held_piece[root(static_cast<int>(k))] = 1;
   }
   // parked at their current displacement (no force on anyone else)
   std::vector<int> pts;
   std::vector<double> tgt;
-  for (std::size_t k = 0; k < B.size(); ++k) {
-    if (coupled[k]) continue;
+  std::size_t in_fragments = 0, roots = 0;
+  // a fragment point parked before keeps its target (the fragment does not creep pass by pass)
+  std::vector<int> before;
+  if (fragments) {
+    before.assign(N, -1);
+    const std::vector<int>& a = model_->anchors();
+    for (std::size_t q = 0; q < a.size(); ++q) before[a[q]] = static_cast<int>(q);
+  }
+  const std::vector<double>& old_targets = model_->anchor_targets();
+  for (std::size_t k = 0; k < N; ++k) {
+    const bool free_piece = fragments && coupled[k] && !held_piece[root(static_cast<int>(k))];
+    if (fragments && coupled[k] && static_cast<std::size_t>(root(static_cast<int>(k))) == k &&
+        free_piece)
+      ++roots;
+    if (coupled[k] && !free_piece) continue;
     pts.push_back(static_cast<int>(k));
+    if (free_piece) {
+      ++in_fragments;
+      if (before[k] >= 0) {
+        for (int a = 0; a < d; ++a) tgt.push_back(old_targets[d * before[k] + a]);
+        continue;
+      }
+    }
     for (int a = 0; a < d; ++a) tgt.push_back(u[d * k + a]);
   }
+  fragment_points_ = in_fragments;
+  free_fragments_ = roots;
   model_->set_anchors(std::move(pts), std::move(tgt), anchor_stiffness_);
 }
 
@@ -639,6 +693,10 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
       T.continuation_passes += c.continuation_passes;
       T.relaxation_passes += c.relaxation_passes;
       T.seconds += c.seconds;
+      T.assembly_seconds += c.assembly_seconds;
+      T.solve_seconds += c.solve_seconds;
+      T.factorisations += c.factorisations;
+      T.krylov_iterations += c.krylov_iterations;
     }
   } account{*this, t_start};
   // Stencils that invert (J ≤ 0) during the re-equilibrium (Newton's accepted states, ADR
@@ -655,13 +713,29 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
   });
   struct Reset {
     StaticSolver& s;
-    ~Reset() { s.set_inadmissible_handler({}); }
-  } reset{solver};
+    int reuse;
+    ~Reset() {
+      s.set_inadmissible_handler({});
+      s.set_factor_reuse(reuse);
+    }
+  } reset{solver, solver.factor_reuse()};
+  if (opt_.factor_reuse > 0) solver.set_factor_reuse(opt_.factor_reuse);
   // Residual scale: once the crack has separated the body, the internal force is round-off
   // and the relative residual stays O(1) at the equilibrium; 1e-4 of the largest force of a
   // converged state (a load the body no longer carries) keeps the criterion meaningful and
   // changes nothing while the body carries more than that (docs/effects.md §2).
   peak_force_ = std::max(peak_force_, solver.internal_force().norm());
+  // Free fragments (pieces with no prescribed dof) are parked: their rigid motions would
+  // make K singular (docs/effects.md §2, "Free fragments").
+  if (opt_.anchor_fragments && opt_.anchor_detached && held_.empty()) {
+    const int d = body_->dimension();
+    std::vector<char> held(static_cast<std::size_t>(d) * body_->size(), 0);
+    for (const DisplacementSet& set : solver.displacement_sets())
+      for (int p : set.points)
+        for (int a = 0; a < d; ++a)
+          if (set.component[a]) held[static_cast<std::size_t>(d) * p + a] = 1;
+    held_ = std::move(held);
+  }
   solver.set_force_floor(std::max(solver.force_floor(), 1e-4 * peak_force_));
   for (int pass_no = 1;; ++pass_no) {
     const RupturePass p = break_exceeding(solver.displacement());
@@ -670,11 +744,13 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
         log::info(
             "rupture at t = {:.6g}: no further bond past {} {} after {} passes (max {:.4g}); "
             "{} Newton iterations ({} in failed solves), {} pseudo-transient and {} ADR "
-            "iterations, {:.2f} s",
+            "iterations, {:.2f} s (assembly {:.2f} s, linear solves {:.2f} s; {} Newton "
+            "factorisations, {} GMRES iterations)",
             solver.load_factor(), to_string(opt_.criterion), opt_.critical, pass_no - 1,
             p.max_value, cost.newton_iterations, cost.failed_newton_iterations,
             cost.continuation_iterations, cost.relaxation_iterations,
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(),
+            cost.assembly_seconds, cost.solve_seconds, cost.factorisations, cost.krylov_iterations);
       return total;
     }
     total += p.broken;
@@ -689,6 +765,10 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     StepReport rep;
     during = during_points = 0;
     const bool ok = solver.reequilibrate(rep);
+    cost.assembly_seconds += rep.assembly_seconds;
+    cost.solve_seconds += rep.solve_seconds;
+    cost.factorisations += rep.factorisations;
+    cost.krylov_iterations += rep.krylov_iterations;
     if (softening())
       log::debug("rupture pass {}: damage grew in {} pairs by more than {} (largest {:.3g})",
                  pass_no, p.damaged, opt_.damage_tolerance, p.max_damage_increment);
@@ -701,12 +781,13 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     log::info(
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
-        "{} stencils rebuilt, {} ill-posed stencils off, {} detached points; re-equilibrium: {} "
+        "{} stencils rebuilt, {} ill-posed stencils off, {} detached points ({} in {} free "
+        "fragments); re-equilibrium: {} "
         "({} Newton iterations, residual {:.3e}, force balance {:.2e} of the load; {} bonds "
         "broke and {} point stencils went off when their stencils inverted during it; {:.2f} s)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
-        ok ? "converged" : "FAILED", rep.iterations,
+        fragment_points_, free_fragments_, ok ? "converged" : "FAILED", rep.iterations,
         rep.residual_history.empty() ? NAN : rep.residual_history.back(),
         ok ? solver.force_balance() : NAN, during, during_points,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_pass).count());
@@ -725,6 +806,10 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
       cost.continuation_iterations += ptc.iterations;
       StepReport polish;
       const bool polished = continued && solver.reequilibrate(polish);
+      cost.assembly_seconds += ptc.assembly_seconds + polish.assembly_seconds;
+      cost.solve_seconds += ptc.solve_seconds + polish.solve_seconds;
+      cost.factorisations += polish.factorisations;
+      cost.krylov_iterations += polish.krylov_iterations;
       cost.newton_iterations +=
           polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
       log::info(
@@ -758,6 +843,10 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     cost.relaxation_iterations += adr.iterations;
     StepReport polish;
     const bool polished = relaxed && solver.reequilibrate(polish);
+    cost.assembly_seconds += polish.assembly_seconds;
+    cost.solve_seconds += polish.solve_seconds;
+    cost.factorisations += polish.factorisations;
+    cost.krylov_iterations += polish.krylov_iterations;
     cost.newton_iterations +=
         polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
     log::info(

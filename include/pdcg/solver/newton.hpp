@@ -135,6 +135,7 @@ struct StepReport {
   double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation
                                   ///< (gmres: building and factorising the preconditioner)
   int krylov_iterations = 0;      ///< gmres / bicgstab: Krylov iterations, summed
+  int factorisations = 0;         ///< umfpack: numeric factorisations of K_ff
   int operator_products = 0;      ///< gmres: products by the tangent (Krylov + restarts + rhs)
   double product_seconds = 0.0;   ///< gmres: time in those products, summed
   /// Negative eigenvalues of the converged free-dof tangent (check_stability), −1 if
@@ -202,6 +203,12 @@ class StaticSolver {
   /// O(1) at any equilibrium; the quasi-static rupture driver sets 1e-4 of the largest
   /// internal force of its converged states (docs/effects.md §2).
   void set_force_floor(double floor) { force_floor_ = floor; }
+  /// linear: umfpack only: > 0 solves each Newton system by GMRES preconditioned by the last
+  /// factorisation, with at most this many products, and factorises when that fails (and
+  /// at the next iteration when GMRES needed more than a third of them: an aged factor)
+  /// (rupture passes, docs/effects.md §2); 0 (default): a factorisation per iteration.
+  void set_factor_reuse(int max_products) { factor_reuse_ = max_products; }
+  int factor_reuse() const { return factor_reuse_; }
   double force_floor() const { return force_floor_; }
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
@@ -267,6 +274,7 @@ class StaticSolver {
   std::shared_ptr<Solvers> solvers_;
   InadmissibleHandler inadmissible_;
   double force_floor_ = 0.0;
+  int factor_reuse_ = 0;
 };
 
 }  // namespace pdcg::solver

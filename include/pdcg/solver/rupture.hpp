@@ -86,6 +86,14 @@ struct RuptureOptions {
   /// K has zero rows); explicit dynamics does not: a detached point carries no force and
   /// moves on with its velocity (a fragment), so no anchors (false).
   bool anchor_detached = true;
+  /// Quasi-static runs (with anchor_detached): also park every point of a free fragment —
+  /// a set of points that the intact stencils couple to each other but to no point with a
+  /// prescribed displacement (Rupture::set_held_dofs) — each at its displacement when it
+  /// was cut loose. Such a fragment carries no load and its rigid motions make K singular
+  /// (docs/effects.md §2, "Free fragments"). false (default, the scheme before): only
+  /// single uncoupled points. Off by default: on the 50 × 50 sheet the ADR of the burst pass
+  /// did not converge with a parked fragment (docs/effects.md §2; cause not established).
+  bool anchor_fragments = false;
   /// Explicit dynamics: evaluate the criterion every check_every time steps (1 = each).
   int check_every = 1;
   /// fracture_energy: the critical energy release rate G_c (energy per unit crack area;
@@ -109,14 +117,21 @@ struct RuptureOptions {
   /// only (the scheme before pseudo-transient continuation, kept for comparisons).
   bool pseudo_transient = true;
   int continuation_iterations = 100;
+  /// Staggered passes with linear: umfpack: > 0 reuses the last factorisation as the GMRES
+  /// preconditioner of the Newton systems, at most this many products before a new
+  /// factorisation (StaticSolver::set_factor_reuse); 0: a factorisation per iteration.
+  int factor_reuse = 0;
+  /// the products per reuse that the scene key rupture.factorisations: reuse sets
+  int reuse_products = 30;
 };
 
 struct RupturePass {
-  std::size_t broken = 0;    ///< bonds broken in this pass
-  double max_value = 0.0;    ///< largest criterion value over the intact bonds
-  std::size_t rebuilt = 0;   ///< stencils rebuilt
-  std::size_t anchored = 0;  ///< points no stencil couples any more
-  std::size_t inverted = 0;  ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
+  std::size_t broken = 0;     ///< bonds broken in this pass
+  double max_value = 0.0;     ///< largest criterion value over the intact bonds
+  std::size_t rebuilt = 0;    ///< stencils rebuilt
+  std::size_t anchored = 0;   ///< points no stencil couples any more, and free fragments
+  std::size_t fragments = 0;  ///< free fragments parked (anchor_fragments), all passes so far
+  std::size_t inverted = 0;   ///< of `broken`: bonds whose rebuilt stencil was inverted (J ≤ 0)
   /// weak-form point stencils switched off because F̄_k was inverted (J ≤ 0)
   std::size_t point_stencils_off = 0;
   /// softening: pairs whose damage grew by more than options.damage_tolerance, and the
@@ -137,6 +152,12 @@ struct StaggerCost {
   int continuation_passes = 0;  ///< passes that Newton failed and the continuation resolved
   int relaxation_passes = 0;    ///< passes that needed ADR
   double seconds = 0.0;
+  /// of seconds: Newton and continuation assembly (residual + tangent) and linear solves
+  /// (reduction, factorisation, substitution), as the solvers' step reports count them
+  double assembly_seconds = 0.0;
+  double solve_seconds = 0.0;
+  int factorisations = 0;     ///< Newton's (umfpack), not the continuation's
+  int krylov_iterations = 0;  ///< factor reuse: GMRES iterations
 };
 
 class Rupture {
@@ -172,6 +193,13 @@ class Rupture {
   /// After Discretization::break_bond calls: rebuilds the touched stencils and parks
   /// the points nothing couples any more at their displacement u. Returns stencils rebuilt.
   std::size_t commit(const Eigen::VectorXd& u);
+  /// Degrees of freedom held by a prescribed displacement (length d·N, 1 = prescribed),
+  /// for anchor_fragments; stagger sets it from the solver's displacement sets. Empty (the
+  /// default): every coupled point counts as held (no fragment is parked).
+  void set_held_dofs(std::vector<char> held) { held_ = std::move(held); }
+  /// Points parked because their fragment is free (of Model::anchors()).
+  std::size_t fragment_points() const { return fragment_points_; }
+  std::size_t free_fragments() const { return free_fragments_; }
 
   const RuptureOptions& options() const { return opt_; }
   /// Broken bonds as pairs (i < j), flattened [i0, j0, i1, j1, …] (checkpoints).
@@ -231,6 +259,9 @@ class Rupture {
   Model* model_;
   RuptureOptions opt_;
   double anchor_stiffness_ = 0.0;
+  std::vector<char> held_;            // dof held by a prescribed displacement
+  std::vector<int> fragment_parent_;  // scratch: union-find over points
+  std::size_t fragment_points_ = 0, free_fragments_ = 0;
   // fracture_energy: per directed bond (CSR order), allocated by the constructor only for it
   double psi_c_ = 0.0;
   std::vector<std::int64_t> reverse_;  // CSR position of (j, i)

@@ -243,3 +243,24 @@ TEST(Effects, RuptureFallbackKey) {
   const auto e = error_of("effects: [rupture]\nrupture: {critical: 2, fallback: newton}\n");
   EXPECT_TRUE(has(e, "rupture.fallback") && has(e, "pseudo_transient, relaxation")) << e;
 }
+
+// rupture.fragments and rupture.factorisations (docs/effects.md §2, "Free fragments",
+// "Factor reuse"): fragments left free and a factorisation per Newton iteration by
+// default; the alternatives on request; bad values name the choices.
+TEST(Effects, RuptureFragmentsAndFactorisationsKeys) {
+  const auto s0 = scene::load_scene(
+      write("fr0.yaml", std::string(kBase) + "effects: [rupture]\nrupture: {critical: 2}\n"));
+  EXPECT_FALSE(s0.rupture_options.anchor_fragments);
+  EXPECT_EQ(s0.rupture_options.factor_reuse, 0);
+  const auto s1 = scene::load_scene(
+      write("fr1.yaml", std::string(kBase) +
+                            "effects: [rupture]\nrupture: {critical: 2, fragments: anchor, "
+                            "factorisations: reuse}\n"));
+  EXPECT_TRUE(s1.rupture_options.anchor_fragments);
+  EXPECT_EQ(s1.rupture_options.factor_reuse, s1.rupture_options.reuse_products);
+  EXPECT_GT(s1.rupture_options.factor_reuse, 0);
+  const auto e = error_of("effects: [rupture]\nrupture: {critical: 2, fragments: keep}\n");
+  EXPECT_TRUE(has(e, "rupture.fragments") && has(e, "anchor, free")) << e;
+  const auto e2 = error_of("effects: [rupture]\nrupture: {critical: 2, factorisations: 3}\n");
+  EXPECT_TRUE(has(e2, "rupture.factorisations") && has(e2, "every_iteration, reuse")) << e2;
+}

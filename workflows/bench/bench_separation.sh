@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
-# Quasi-static rupture to separation (docs/effects.md §2, "Unstable passes"): the 50 x 50
-# edge-cracked sheet of edge_2500.yaml (50 load steps, top grip to u_y = 0.5) run twice
+# Quasi-static rupture to separation (docs/effects.md §2, "Unstable passes", "Free
+# fragments", "Factor reuse"): the 50 x 50 edge-cracked sheet of
+# workflows/rupture/edge_2500.yaml (50 load steps, top grip to u_y = 0.5) run twice
 # with the same binary:
-#   pseudo_transient  the default fallback of a staggered pass that Newton cannot
-#                     re-equilibrate: pseudo-transient continuation, then ADR
-#   relaxation        the peer: ADR only (the scheme before), same scene otherwise
+#   pseudo_transient  the default: a staggered pass that Newton cannot re-equilibrate
+#                     falls back to pseudo-transient continuation, then ADR
+#   anchor            as pseudo_transient, free fragments parked (rupture.fragments: anchor)
+#   reuse             as anchor, and the Newton solves of the staggered passes reuse the
+#                     last factorisation as a GMRES preconditioner
+#                     (rupture.factorisations: reuse)
+#   relaxation        ADR only as the fallback (the scheme before the continuation)
 # each under a time limit. Per run: exit status, CPU (user + system) and wall seconds, load
 # steps written, bonds broken, staggered passes, Newton / pseudo-transient / ADR iterations,
 # the passes that needed a fallback, and CPU seconds per broken bond. The machine's load
 # average is printed: wall times on a shared machine scale with it; CPU times much less.
-#   workflows/rupture/bench_separation.sh [OUT=build/rupture-separation]
+#   workflows/bench/bench_separation.sh [OUT=build/rupture-separation]
 # Environment: SPACING (default 0.02; 0.01 gives the 10^4-point sheet), LIMIT seconds per
-# run (default 1200), CASES (default "pseudo_transient relaxation"), OMP_NUM_THREADS (1).
+# run (default 1200), CASES (default "pseudo_transient reuse"), OMP_NUM_THREADS (1).
 set -uo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/../lib/setup.sh"
@@ -23,9 +28,14 @@ cmake --build "$PDCG_BUILD" -j"${PDCG_JOBS:-2}" --target pdcg >/dev/null
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 LOG="$OUT/bench.txt"
 echo "# $(date -u +%FT%TZ) $(uname -n) spacing $SPACING limit $LIMIT s threads $OMP_NUM_THREADS" | tee "$LOG"
-for c in ${CASES:-pseudo_transient relaxation}; do
-  sed -e "s/spacing: 0.02/spacing: $SPACING/" -e "s/critical: 2.0}/critical: 2.0, fallback: $c}/" \
-    "$HERE/edge_2500.yaml" >"$OUT/$c.yaml"
+for c in ${CASES:-pseudo_transient reuse}; do
+  case $c in
+    anchor) keys="fallback: pseudo_transient, fragments: anchor" ;;
+    reuse) keys="fallback: pseudo_transient, fragments: anchor, factorisations: reuse" ;;
+    *) keys="fallback: $c" ;;
+  esac
+  sed -e "s/spacing: 0.02/spacing: $SPACING/" -e "s/critical: 2.0}/critical: 2.0, $keys}/" \
+    "$HERE/../rupture/edge_2500.yaml" >"$OUT/$c.yaml"
   rm -rf "${OUT:?}/$c"
   load0=$(cut -d' ' -f1 /proc/loadavg)
   /usr/bin/time -f "%U %S %e" -o "$OUT/$c.time" timeout "$LIMIT" \
