@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "lindemann.hpp"
 #include "pdcg/body/lattice.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
@@ -146,20 +147,8 @@ const Body& checked_material_body(const Body& body, double temperature, double s
     for (double m : body.mass) mass += m;
     const double kT = unit_constants(body.units).boltz * temperature;
     const double lindemann = std::sqrt(kT * v.sum_inverse_omega2 / mass) / lat.nearest;
-    if (lindemann > 0.15)
-      throw InputError("temperature beyond melting for this crystal")
-          .key("temperature")
-          .value(fmt::format("{} (units {}): harmonic rms displacement {:.3g} of the "
-                             "nearest-neighbour distance",
-                             temperature, to_string(body.units), lindemann))
-          .expected(
-              "a crystal below melting: rms displacement < 0.15 of the nearest-neighbour "
-              "distance (Lindemann)")
-          .fix(
-              body.units == UnitStyle::lj
-                  ? "in units lj the temperature is k_B T/ε (LJ fcc melts near 0.7): a "
-                    "temperature in kelvin belongs to units metal or real"
-                  : fmt::format("in units {} the temperature is in kelvin", to_string(body.units)));
+    detail::require_below_melting(lindemann, temperature, body.units, "temperature",
+                                  "harmonic rms displacement");
   }
   return body;
 }

@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "lindemann.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/core/parallel.hpp"
@@ -233,23 +234,9 @@ Statistics einstein_statistics(const Body& body, double temperature, std::string
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2),
                    sorted.end());
   const double lindemann = n ? sorted[n / 2] : 0.0;  // median over the atoms
-  const std::string unit_hint =
-      body.units == UnitStyle::lj
-          ? "in units lj the temperature is k_B T/ε (LJ fcc melts near 0.7): a temperature in "
-            "kelvin belongs to units metal or real"
-          : fmt::format("in units {} the temperature is in kelvin", to_string(body.units));
-  // Lindemann (1910): crystals melt when the rms displacement reaches ≈ 0.10–0.15 of the
-  // nearest-neighbour distance.
-  if (lindemann > 0.15)
-    throw InputError("temperature beyond melting for this crystal")
-        .key(where)
-        .value(fmt::format("{} (units {}): rms displacement {:.3g} of the nearest-neighbour "
-                           "distance (median over the atoms)",
-                           temperature, to_string(body.units), lindemann))
-        .expected(
-            "a crystal below melting: rms displacement < 0.15 of the nearest-neighbour "
-            "distance (Lindemann)")
-        .fix(unit_hint);
+  const std::string unit_hint = detail::temperature_unit_hint(body.units);
+  detail::require_below_melting(lindemann, temperature, body.units, where,
+                                "rms displacement (median over the atoms)");
   if (lindemann > 0.10)
     log::warn(
         "{} {}: rms displacement {:.3g} of the nearest-neighbour distance, near melting "
@@ -359,35 +346,36 @@ double accumulate_sample(const Body& body, std::span<const double> ys, const Eig
   double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   ParallelExceptions errors;  // a potential may refuse a sampled configuration
 #pragma omp parallel for schedule(static) reduction(+ : total, acc[:9])
-  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body.size()); ++ii) errors.capture([&] {
-    const auto i = static_cast<std::size_t>(ii);
-    const auto b0 = static_cast<std::size_t>(fam.offset[i]),
-               b1 = static_cast<std::size_t>(fam.offset[i + 1]);
-    // per-thread family buffers, grown once per thread to the largest family
-    thread_local std::vector<double> yb, tb;
-    if (yb.size() < 3 * (b1 - b0)) {
-      yb.resize(3 * (b1 - b0));
-      tb.resize(3 * (b1 - b0));
-    }
-    for (std::size_t b = b0; b < b1; ++b) {
-      const Eigen::Vector3d v = atomistic::bond_vector(fam, ys, h_y, i, b);
-      for (int k = 0; k < 3; ++k) yb[3 * (b - b0) + static_cast<std::size_t>(k)] = v[k];
-    }
-    const atomistic::FamilyState f =
-        atomistic::family_state(fam, i, body.type[i], sc.ntype.data() + b0, yb.data());
-    const double psi = pot.force_state(f, tb.data());
-    psi_out[i] += weight * psi;
-    for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * tb[c - 3 * b0];
-    total += weight * psi;
-    if (du_dg) {
-      for (std::size_t b = b0; b < b1; ++b) {
-        const Eigen::Vector3d xi = atomistic::bond_vector(fam, xs, fam.h, i, b);
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c)
-            acc[3 * r + c] += weight * tb[3 * (b - b0) + static_cast<std::size_t>(r)] * xi[c];
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(body.size()); ++ii)
+    errors.capture([&] {
+      const auto i = static_cast<std::size_t>(ii);
+      const auto b0 = static_cast<std::size_t>(fam.offset[i]),
+                 b1 = static_cast<std::size_t>(fam.offset[i + 1]);
+      // per-thread family buffers, grown once per thread to the largest family
+      thread_local std::vector<double> yb, tb;
+      if (yb.size() < 3 * (b1 - b0)) {
+        yb.resize(3 * (b1 - b0));
+        tb.resize(3 * (b1 - b0));
       }
-    }
-  });
+      for (std::size_t b = b0; b < b1; ++b) {
+        const Eigen::Vector3d v = atomistic::bond_vector(fam, ys, h_y, i, b);
+        for (int k = 0; k < 3; ++k) yb[3 * (b - b0) + static_cast<std::size_t>(k)] = v[k];
+      }
+      const atomistic::FamilyState f =
+          atomistic::family_state(fam, i, body.type[i], sc.ntype.data() + b0, yb.data());
+      const double psi = pot.force_state(f, tb.data());
+      psi_out[i] += weight * psi;
+      for (std::size_t c = 3 * b0; c < 3 * b1; ++c) t_out[c] += weight * tb[c - 3 * b0];
+      total += weight * psi;
+      if (du_dg) {
+        for (std::size_t b = b0; b < b1; ++b) {
+          const Eigen::Vector3d xi = atomistic::bond_vector(fam, xs, fam.h, i, b);
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+              acc[3 * r + c] += weight * tb[3 * (b - b0) + static_cast<std::size_t>(r)] * xi[c];
+        }
+      }
+    });
   errors.rethrow();
   if (du_dg)
     for (int c = 0; c < 9; ++c) du_dg[c] += acc[c];
@@ -484,52 +472,53 @@ double statistical_force_states_impl(const Body& body, const Statistics& s,
   double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   ParallelExceptions errors;  // a potential may refuse a cubature configuration
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : total, acc[:9])
-  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) errors.capture([&] {
-    const auto i = static_cast<std::size_t>(ii);
-    const Eigen::Matrix3d Ci = cov_of(s, i);
-    double psi = 0.0;
-    for (auto b = static_cast<std::size_t>(fam.offset[i]);
-         b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
-      const auto j = static_cast<std::size_t>(fam.neighbor[b]);
-      const Eigen::Matrix3d A = factor_of(Ci + cov_of(s, j), d);
-      const Eigen::Matrix3d B = G * A;
-      // reference bond of the means (∂U/∂G: Σ w t ⊗ (ξ_b + A z))
-      const Eigen::Vector3d xi_b =
-          du_dg ? atomistic::bond_vector(fam, body.x, fam.h, i, b) : Eigen::Vector3d::Zero();
-      atomistic::FamilyState f;
-      f.type = body.type[i];
-      f.size = 1;
-      f.neighbor_type = sc.ntype.data() + b;
-      f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b;
-      f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b;
-      double yb[3], tb[3];
-      f.bond = yb;
-      const Eigen::Vector3d mean_bond =
-          atomistic::bond_vector(fam, y, h_y, i, b);  // Y_b of the means
-      double tx = 0, ty = 0, tz = 0, e = 0;
-      for (std::size_t c = 0; c < count; ++c) {
-        const Eigen::Vector3d z(sc.nodes[3 * c], sc.nodes[3 * c + 1], sc.nodes[3 * c + 2]);
-        const Eigen::Vector3d dz = B * z;
-        for (int k = 0; k < 3; ++k) yb[k] = mean_bond[k] + dz[k];
-        const double w = sc.weights[c];
-        e += w * pot.force_state(f, tb);
-        tx += w * tb[0];
-        ty += w * tb[1];
-        tz += w * tb[2];
-        if (du_dg) {
-          const Eigen::Vector3d xi = xi_b + A * z;
-          for (int r = 0; r < 3; ++r)
-            for (int cc = 0; cc < 3; ++cc) acc[3 * r + cc] += w * tb[r] * xi[cc];
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii)
+    errors.capture([&] {
+      const auto i = static_cast<std::size_t>(ii);
+      const Eigen::Matrix3d Ci = cov_of(s, i);
+      double psi = 0.0;
+      for (auto b = static_cast<std::size_t>(fam.offset[i]);
+           b < static_cast<std::size_t>(fam.offset[i + 1]); ++b) {
+        const auto j = static_cast<std::size_t>(fam.neighbor[b]);
+        const Eigen::Matrix3d A = factor_of(Ci + cov_of(s, j), d);
+        const Eigen::Matrix3d B = G * A;
+        // reference bond of the means (∂U/∂G: Σ w t ⊗ (ξ_b + A z))
+        const Eigen::Vector3d xi_b =
+            du_dg ? atomistic::bond_vector(fam, body.x, fam.h, i, b) : Eigen::Vector3d::Zero();
+        atomistic::FamilyState f;
+        f.type = body.type[i];
+        f.size = 1;
+        f.neighbor_type = sc.ntype.data() + b;
+        f.pair_factor = fam.pair_factor.empty() ? nullptr : fam.pair_factor.data() + b;
+        f.bond_type = fam.bond_type.empty() ? nullptr : fam.bond_type.data() + b;
+        double yb[3], tb[3];
+        f.bond = yb;
+        const Eigen::Vector3d mean_bond =
+            atomistic::bond_vector(fam, y, h_y, i, b);  // Y_b of the means
+        double tx = 0, ty = 0, tz = 0, e = 0;
+        for (std::size_t c = 0; c < count; ++c) {
+          const Eigen::Vector3d z(sc.nodes[3 * c], sc.nodes[3 * c + 1], sc.nodes[3 * c + 2]);
+          const Eigen::Vector3d dz = B * z;
+          for (int k = 0; k < 3; ++k) yb[k] = mean_bond[k] + dz[k];
+          const double w = sc.weights[c];
+          e += w * pot.force_state(f, tb);
+          tx += w * tb[0];
+          ty += w * tb[1];
+          tz += w * tb[2];
+          if (du_dg) {
+            const Eigen::Vector3d xi = xi_b + A * z;
+            for (int r = 0; r < 3; ++r)
+              for (int cc = 0; cc < 3; ++cc) acc[3 * r + cc] += w * tb[r] * xi[cc];
+          }
         }
+        t_out[3 * b] = tx;
+        t_out[3 * b + 1] = ty;
+        t_out[3 * b + 2] = tz;
+        psi += e;
       }
-      t_out[3 * b] = tx;
-      t_out[3 * b + 1] = ty;
-      t_out[3 * b + 2] = tz;
-      psi += e;
-    }
-    psi_out[i] = psi;
-    total += psi;
-  });
+      psi_out[i] = psi;
+      total += psi;
+    });
   errors.rethrow();
   if (du_dg)
     for (int c = 0; c < 9; ++c) du_dg[c] += acc[c];
