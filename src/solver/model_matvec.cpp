@@ -247,7 +247,7 @@ void Model::product_sweep(const Eigen::VectorXd& v, Eigen::VectorXd& out) const 
   for (std::size_t a = 0; a < anchor_points_.size(); ++a)
     for (int c = 0; c < D; ++c) {
       const auto i = static_cast<std::size_t>(D) * anchor_points_[a] + c;
-      od[i] += anchor_k_ * vd[i];
+      if (!std::isnan(anchor_u_[static_cast<std::size_t>(D) * a + c])) od[i] += anchor_k_ * vd[i];
     }
 }
 
