@@ -388,7 +388,7 @@ double Model::energy(const Eigen::VectorXd& u) const {
   for (std::size_t a = 0; a < anchor_points_.size(); ++a)
     for (int c = 0; c < d_; ++c) {
       const double du = u[d_ * anchor_points_[a] + c] - anchor_u_[d_ * a + c];
-      e += 0.5 * anchor_k_ * du * du;
+      if (!std::isnan(du)) e += 0.5 * anchor_k_ * du * du;  // NaN target: no spring
     }
   return ok ? e : std::numeric_limits<double>::quiet_NaN();
 }
@@ -542,6 +542,7 @@ void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow*
   for (std::size_t a = 0; a < anchor_points_.size(); ++a) {
     const int k = anchor_points_[a];
     for (int c = 0; c < d_; ++c) {
+      if (std::isnan(anchor_u_[d_ * a + c])) continue;  // no spring in this component
       f[d_ * k + c] += anchor_k_ * (u[d_ * k + c] - anchor_u_[d_ * a + c]);
       if (K) K->coeffRef(d_ * k + c, d_ * k + c) += anchor_k_;  // diagonal is in the pattern
     }
@@ -771,7 +772,9 @@ bool Model::tangent_row_abs_sums(const Eigen::VectorXd& u, const std::vector<int
   for (std::size_t a = 0; a < anchor_points_.size(); ++a)
     for (std::size_t pi = 0; pi < points.size(); ++pi)
       if (points[pi] == anchor_points_[a])
-        for (int c = 0; c < d; ++c) sums[static_cast<std::size_t>(d) * pi + c] += anchor_k_;
+        for (int c = 0; c < d; ++c)
+          if (!std::isnan(anchor_u_[static_cast<std::size_t>(d) * a + c]))
+            sums[static_cast<std::size_t>(d) * pi + c] += anchor_k_;
   return true;
 }
 

@@ -9,6 +9,8 @@
 // contiguous stencil ranges, summed in a fixed order: deterministic for a thread count).
 // Flops per stencil member: 4d² (gather + scatter), per stencil d⁴ (the packed product);
 // bytes per member: 4 + 8d (index, G), per stencil 8·d²(d²+1)/2 (the packed tangent).
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -157,7 +159,7 @@ bool Model::energy_force_and_tangents(const Eigen::VectorXd& u, Eigen::VectorXd&
   if (asym > detail::kMaxAsymmetry)
     throw NumericalError(
         "tangent: the material tangent lacks major symmetry (max |A_aJbL − A_bLaJ| / max |A| = " +
-        std::to_string(asym) +
+        fmt::format("{:.3e}", asym) +
         "); the solver stores the stencil tangents packed by this symmetry (assembled and "
         "matrix-free alike) and needs a hyperelastic material (a stress derived from an "
         "energy)");
@@ -247,7 +249,7 @@ void Model::product_sweep(const Eigen::VectorXd& v, Eigen::VectorXd& out) const 
   for (std::size_t a = 0; a < anchor_points_.size(); ++a)
     for (int c = 0; c < D; ++c) {
       const auto i = static_cast<std::size_t>(D) * anchor_points_[a] + c;
-      od[i] += anchor_k_ * vd[i];
+      if (!std::isnan(anchor_u_[static_cast<std::size_t>(D) * a + c])) od[i] += anchor_k_ * vd[i];
     }
 }
 

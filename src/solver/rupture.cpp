@@ -601,10 +601,14 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
   const Stencils& S = B.bond_stencils();
   const int d = B.dimension();
   const std::size_t N = B.size();
-  const bool fragments = opt_.anchor_fragments && held_.size() == static_cast<std::size_t>(d) * N;
+  // pieces: the union-find runs when the held dofs are known (free fragments are parked,
+  // or pieces held in only some directions pinned)
+  const bool pieces = held_.size() == static_cast<std::size_t>(d) * N;
+  const bool fragments = pieces && opt_.anchor_fragments;
+  const bool pins = pieces && opt_.pin_partly_held;
   std::vector<char> coupled(N, 0);
   std::vector<int>& parent = fragment_parent_;
-  if (fragments) {
+  if (pieces) {
     parent.resize(N);
     for (std::size_t k = 0; k < N; ++k) parent[k] = static_cast<int>(k);
   }
@@ -622,7 +626,7 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
       if (!nz) continue;
       const int m = S.index[r];
       coupled[m] = 1;
-      if (!fragments) continue;
+      if (!pieces) continue;
       if (first < 0) {
         first = root(m);
       } else {
@@ -632,21 +636,45 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
     }
   }
   // A piece is held if one of its points has a prescribed component; a piece with none is a
-  // free fragment: it carries no load, and its rigid motions are null modes of K.
-  std::vector<char> held_piece;
-  if (fragments) {
+  // free fragment: it carries no load, and its rigid motions are null modes of K. A piece
+  // held in some directions only (no point of it prescribed in direction a: e.g. the upper
+  // half of a separated sheet on a grip that slides in x) has its translation along a as a
+  // null mode: its lowest-numbered point is pinned by the spring in those directions only.
+  // No external force acts on the piece along a, so at equilibrium the pin carries none.
+  std::vector<char> held_piece, held_dir;
+  std::vector<int> pin_of;
+  if (pieces) {
     held_piece.assign(N, 0);
+    held_dir.assign(static_cast<std::size_t>(d) * N, 0);
     for (std::size_t k = 0; k < N; ++k)
       for (int a = 0; a < d; ++a)
-        if (held_[d * k + a]) held_piece[root(static_cast<int>(k))] = 1;
+        if (held_[d * k + a]) {
+          const auto r = static_cast<std::size_t>(root(static_cast<int>(k)));
+          held_piece[r] = 1;
+          held_dir[d * r + a] = 1;
+        }
+    if (pins) {
+      pin_of.assign(N, -1);
+      for (std::size_t k = 0; k < N; ++k) {
+        if (!coupled[k]) continue;
+        const auto r = static_cast<std::size_t>(root(static_cast<int>(k)));
+        if (pin_of[r] < 0) pin_of[r] = static_cast<int>(k);
+      }
+    }
   }
+  const auto partly_held = [&](std::size_t r) {
+    if (!held_piece[r]) return false;
+    for (int a = 0; a < d; ++a)
+      if (!held_dir[d * r + a]) return true;
+    return false;
+  };
   // parked at their current displacement (no force on anyone else)
   std::vector<int> pts;
   std::vector<double> tgt;
-  std::size_t in_fragments = 0, roots = 0;
+  std::size_t in_fragments = 0, roots = 0, pinned = 0;
   // a fragment point parked before keeps its target (the fragment does not creep pass by pass)
   std::vector<int> before;
-  if (fragments) {
+  if (pieces) {
     before.assign(N, -1);
     const std::vector<int>& a = model_->anchors();
     for (std::size_t q = 0; q < a.size(); ++q) before[a[q]] = static_cast<int>(q);
@@ -657,19 +685,26 @@ void Rupture::update_anchors(const Eigen::VectorXd& u) {
     if (fragments && coupled[k] && static_cast<std::size_t>(root(static_cast<int>(k))) == k &&
         free_piece)
       ++roots;
-    if (coupled[k] && !free_piece) continue;
+    const std::size_t r = pieces ? static_cast<std::size_t>(root(static_cast<int>(k))) : k;
+    const bool pin = pins && coupled[k] && pin_of[r] == static_cast<int>(k) && partly_held(r);
+    if (coupled[k] && !free_piece && !pin) continue;
     pts.push_back(static_cast<int>(k));
-    if (free_piece) {
-      ++in_fragments;
-      if (before[k] >= 0) {
-        for (int a = 0; a < d; ++a) tgt.push_back(old_targets[d * before[k] + a]);
+    if (free_piece) ++in_fragments;
+    if (pin) ++pinned;
+    for (int a = 0; a < d; ++a) {
+      if (pin && held_dir[d * r + a]) {  // held along a: no spring
+        tgt.push_back(NAN);
         continue;
       }
+      // parked or pinned before: the same target (the piece does not creep pass by pass)
+      const double old =
+          (free_piece || pin) && before[k] >= 0 ? old_targets[d * before[k] + a] : NAN;
+      tgt.push_back(std::isnan(old) ? u[d * k + a] : old);
     }
-    for (int a = 0; a < d; ++a) tgt.push_back(u[d * k + a]);
   }
   fragment_points_ = in_fragments;
   free_fragments_ = roots;
+  pinned_pieces_ = pinned;
   model_->set_anchors(std::move(pts), std::move(tgt), anchor_stiffness_);
 }
 
@@ -727,7 +762,7 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
   peak_force_ = std::max(peak_force_, solver.internal_force().norm());
   // Free fragments (pieces with no prescribed dof) are parked: their rigid motions would
   // make K singular (docs/effects.md §2, "Free fragments").
-  if (opt_.anchor_fragments && opt_.anchor_detached && held_.empty()) {
+  if ((opt_.anchor_fragments || opt_.pin_partly_held) && opt_.anchor_detached && held_.empty()) {
     const int d = body_->dimension();
     std::vector<char> held(static_cast<std::size_t>(d) * body_->size(), 0);
     for (const DisplacementSet& set : solver.displacement_sets())
@@ -782,13 +817,13 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
         "{} stencils rebuilt, {} ill-posed stencils off, {} detached points ({} in {} free "
-        "fragments); re-equilibrium: {} "
+        "fragments, {} pins of partly held pieces); re-equilibrium: {} "
         "({} Newton iterations, residual {:.3e}, force balance {:.2e} of the load; {} bonds "
         "broke and {} point stencils went off when their stencils inverted during it; {:.2f} s)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
-        fragment_points_, free_fragments_, ok ? "converged" : "FAILED", rep.iterations,
-        rep.residual_history.empty() ? NAN : rep.residual_history.back(),
+        fragment_points_, free_fragments_, pinned_pieces_, ok ? "converged" : "FAILED",
+        rep.iterations, rep.residual_history.empty() ? NAN : rep.residual_history.back(),
         ok ? solver.force_balance() : NAN, during, during_points,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_pass).count());
     if (ok) continue;
@@ -816,9 +851,10 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
           "pseudo-transient continuation: {} after {} factorisations ({} steps rejected, "
           "residual {:.3e}; {} bonds broke and {} point stencils went off when their stencils "
           "inverted); Newton polish: {} ({} iterations, residual {:.3e}); {:.2f} s",
-          continued ? "converged" : "FAILED", ptc.iterations, ptc.cutbacks, ptc.residual, during,
-          during_points, polished ? "converged" : (continued ? "FAILED" : "skipped"),
-          polish.iterations, polish.residual_history.empty() ? NAN : polish.residual_history.back(),
+          continued ? "converged" : (ptc.stalled ? "FAILED (stalled)" : "FAILED"), ptc.iterations,
+          ptc.cutbacks, ptc.residual, during, during_points,
+          polished ? "converged" : (continued ? "FAILED" : "skipped"), polish.iterations,
+          polish.residual_history.empty() ? NAN : polish.residual_history.back(),
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t_ptc).count());
       if (polished) {
         ++cost.continuation_passes;

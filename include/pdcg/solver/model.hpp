@@ -133,7 +133,8 @@ class Model {
   /// held them is broken or ill-posed) would leave zero rows in K. They are
   /// parked at their displacement u⁰ at the moment they were cut loose by a
   /// spring f_k = κ (u_k − u⁰_k) (energy ½κ|u_k − u⁰_k|²) that exerts no force on
-  /// any other point. Empty (and not looked at per bond) without rupture.
+  /// any other point. Empty (and not looked at per bond) without rupture. A NaN target
+  /// component has no spring (a pin in the other components only).
   void set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness);
   const std::vector<int>& anchors() const { return anchor_points_; }
 

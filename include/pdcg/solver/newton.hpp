@@ -130,6 +130,7 @@ struct StepReport {
   double residual = 0.0;  ///< final relative residual
   std::vector<double> residual_history;
   int cutbacks = 0;               ///< cutbacks spent on this step
+  bool stalled = false;           ///< pseudo_transient: stopped by its stall rule
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
   double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation
@@ -186,8 +187,11 @@ class StaticSolver {
   /// 10 (the tangent is kept: one more factorisation). Stops when ‖R_f‖ ≤ tol·max(‖f‖, ‖f_ext‖)
   /// (then Newton polishes, as after relax). Returns false (state restored, unless the handler
   /// changed the model: then the last admissible state is kept) after max_iterations
-  /// factorisations, when σ exceeds 10⁸, or with an iterative linear solver (not supported:
-  /// the caller falls back to relax). The quasi-static rupture fallback (docs/effects.md §2).
+  /// factorisations, when the residual stalls (the smallest ‖R‖ of the last 20
+  /// factorisations not below ½ of the smallest before them, or since the handler last
+  /// changed the model; rep.stalled), when σ exceeds 10⁸, or with an iterative linear solver (not
+  /// supported: the caller falls back to relax). The quasi-static rupture fallback (docs/effects.md
+  /// §2).
   bool pseudo_transient(double tol, int max_iterations, StepReport& rep);
 
   /// Called when Newton's accepted state or an ADR iterate is inadmissible (some F with

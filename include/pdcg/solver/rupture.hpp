@@ -94,6 +94,12 @@ struct RuptureOptions {
   /// single uncoupled points. Off by default: on the 50 × 50 sheet the ADR of the burst pass
   /// did not converge with a parked fragment (docs/effects.md §2; cause not established).
   bool anchor_fragments = false;
+  /// Quasi-static runs (with anchor_detached): a piece held in some directions only (no
+  /// point of it prescribed along a) has a free translation along a; its lowest-numbered
+  /// point is pinned along those directions by the anchor spring, which carries no force at
+  /// equilibrium (no external force acts on the piece along a). Rotations left free by the
+  /// grips are not detected (docs/effects.md §2, "Free fragments").
+  bool pin_partly_held = true;
   /// Explicit dynamics: evaluate the criterion every check_every time steps (1 = each).
   int check_every = 1;
   /// fracture_energy: the critical energy release rate G_c (energy per unit crack area;
@@ -200,6 +206,8 @@ class Rupture {
   /// Points parked because their fragment is free (of Model::anchors()).
   std::size_t fragment_points() const { return fragment_points_; }
   std::size_t free_fragments() const { return free_fragments_; }
+  /// pieces held in some directions only, pinned by one point (RuptureOptions::pin_partly_held)
+  std::size_t pinned_pieces() const { return pinned_pieces_; }
 
   const RuptureOptions& options() const { return opt_; }
   /// Broken bonds as pairs (i < j), flattened [i0, j0, i1, j1, …] (checkpoints).
@@ -261,7 +269,7 @@ class Rupture {
   double anchor_stiffness_ = 0.0;
   std::vector<char> held_;            // dof held by a prescribed displacement
   std::vector<int> fragment_parent_;  // scratch: union-find over points
-  std::size_t fragment_points_ = 0, free_fragments_ = 0;
+  std::size_t fragment_points_ = 0, free_fragments_ = 0, pinned_pieces_ = 0;
   // fracture_energy: per directed bond (CSR order), allocated by the constructor only for it
   double psi_c_ = 0.0;
   std::vector<std::int64_t> reverse_;  // CSR position of (j, i)
