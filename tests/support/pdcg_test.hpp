@@ -11,11 +11,22 @@
 
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace pdcg::test {
+
+/// The running test's own scratch directory, TMP/<prefix>/<Suite>.<Test> (created): tests that
+/// ctest runs in parallel (-j) never write the same file.
+inline std::filesystem::path scratch_dir(const std::string& prefix) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / prefix;
+  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info())
+    dir /= std::string(info->test_suite_name()) + "." + info->name();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
 
 struct Tolerance {
   double abs = 0.0;

@@ -9,6 +9,7 @@
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/hdf5.hpp"
 #include "pdcg/scene/scene.hpp"
+#include "pdcg_test.hpp"
 
 namespace fs = std::filesystem;
 using namespace pdcg;
@@ -27,9 +28,7 @@ loading: {steps: 3}
 )";
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "pdcg_effects_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  const fs::path p = pdcg::test::scratch_dir("pdcg_effects_test") / name;
   std::ofstream(p) << text;
   return p;
 }

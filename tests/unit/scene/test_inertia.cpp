@@ -14,6 +14,7 @@
 #include "pdcg/core/error.hpp"
 #include "pdcg/io/hdf5.hpp"
 #include "pdcg/scene/scene.hpp"
+#include "pdcg_test.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -25,9 +26,7 @@ using namespace pdcg;
 namespace {
 
 fs::path scratch() {
-  const fs::path dir = fs::temp_directory_path() / "pdcg_inertia_test";
-  fs::create_directories(dir);
-  return dir;
+  return pdcg::test::scratch_dir("pdcg_inertia_test");
 }
 
 fs::path write(const std::string& name, const std::string& text) {

@@ -19,6 +19,7 @@
 #include "pdcg/scene/scene.hpp"
 #include "pdcg/solver/discretization.hpp"
 #include "pdcg/solver/model.hpp"
+#include "pdcg_test.hpp"
 
 namespace fs = std::filesystem;
 using namespace pdcg;
@@ -199,9 +200,7 @@ output: {directory: out, checkpoint_every: 1}
 )";
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "pdcg_registry_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  const fs::path p = pdcg::test::scratch_dir("pdcg_registry_test") / name;
   std::ofstream(p) << text;
   return p;
 }

@@ -41,9 +41,7 @@ output: {directory: out, every: 1}
 )";
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "pdcg_scene_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  const fs::path p = pdcg::test::scratch_dir("pdcg_scene_test") / name;
   std::ofstream(p) << text;
   return p;
 }

@@ -10,6 +10,7 @@
 
 #include "pdcg/core/error.hpp"
 #include "pdcg/scene/scene.hpp"
+#include "pdcg_test.hpp"
 
 namespace fs = std::filesystem;
 using namespace pdcg;
@@ -105,9 +106,7 @@ rupture: {criterion: fracture_energy, surface_energy: 0.75}
 )";
 
 fs::path dir() {
-  const fs::path d = fs::temp_directory_path() / "pdcg_scene_checks";
-  fs::create_directories(d);
-  return d;
+  return pdcg::test::scratch_dir("pdcg_scene_checks");
 }
 
 fs::path write(const std::string& name, const std::string& text) {
