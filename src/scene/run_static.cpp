@@ -74,8 +74,10 @@ void run_scene(const Scene& s, const RunOptions& ro) {
   // scene's set-up is refused below, so that a refused scene leaves nothing behind
   // (docs/solver.md §6); scene.resolved.yaml is written once everything is checked.
   const char* dir_option = ro.restart ? "--restart" : ro.output ? "--output" : "output.directory";
+  // Only the writer creates and removes them: another process removing the directory it
+  // has just created (on a refusal it reached first) made the writer's check fail.
   std::vector<std::filesystem::path> created;  // directories the check creates, outermost last
-  {
+  if (writer) {
     std::error_code ec;
     for (auto p = std::filesystem::absolute(dir, ec);
          !ec && !p.empty() && !std::filesystem::exists(p, ec) && p != p.parent_path();
