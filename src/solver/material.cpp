@@ -8,6 +8,22 @@
 
 namespace pdcg::solver {
 
+namespace detail {
+std::atomic<bool> vector_kernels_allowed{true};
+}  // namespace detail
+
+void set_vector_kernels(bool enabled) {
+  detail::vector_kernels_allowed.store(enabled, std::memory_order_relaxed);
+}
+
+bool vector_kernels() {
+#ifdef PDCG_SOLVER_AVX2
+  return detail::cpu_has_avx2_fma();
+#else
+  return false;
+#endif
+}
+
 unsigned Material::stress4(const int* points, const double* F, double* P) const {
   const int d = dimension();
   unsigned good = 0;

@@ -39,9 +39,8 @@
 namespace pdcg::solver::detail {
 
 bool cpu_has_avx2_fma() {
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                          std::getenv("PDCG_SOLVER_SCALAR") == nullptr;
-  return has;
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return has && vector_kernels_allowed.load(std::memory_order_relaxed);
 }
 
 namespace {

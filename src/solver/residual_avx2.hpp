@@ -4,6 +4,7 @@
 // CPU has both (the portable build stays portable: other CPUs take the scalar code).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 
 #include "pdcg/solver/discretization.hpp"
@@ -15,9 +16,12 @@
 
 namespace pdcg::solver::detail {
 
+/// False after set_vector_kernels(false) (material.hpp).
+extern std::atomic<bool> vector_kernels_allowed;
+
 #ifdef PDCG_SOLVER_AVX2
-/// True when the CPU has AVX2 and FMA (and PDCG_SOLVER_SCALAR is not set in the
-/// environment: a switch to compare the two paths on the same machine).
+/// True when the CPU has AVX2 and FMA and the vector kernels are allowed
+/// (set_vector_kernels: a switch to compare the two paths on the same machine).
 bool cpu_has_avx2_fma();
 
 /// The fused residual sweep over stencils [s0, s1) of dimension 2 / 3: gather F_S, P(F_S)

@@ -332,6 +332,9 @@ int roof(int dim, int n, int rounds, int reps) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // PDCG_SOLVER_SCALAR=1: the portable sweep, the peer of the AVX2 one (roofline.sh)
+  if (const char* e = std::getenv("PDCG_SOLVER_SCALAR"); e && *e && std::string(e) != "0")
+    pdcg::solver::set_vector_kernels(false);
   const std::string mode = argc > 1 ? argv[1] : "";
   if (mode == "triad" && argc > 2)
     return triad(std::atoi(argv[2]), argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 256);

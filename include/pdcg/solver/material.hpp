@@ -23,6 +23,14 @@
 namespace pdcg::solver {
 
 using Mat3 = Eigen::Matrix3d;
+
+/// The solver's vector kernels (the AVX2 + FMA residual sweep and Neo-Hookean stress4, taken at
+/// run time when the CPU has both) are allowed by default; set_vector_kernels(false) makes
+/// every later evaluation take the portable loops (same results to round-off; a switch to
+/// compare the two paths in one process, e.g. workflows/bench/roofline.sh). Process-wide.
+void set_vector_kernels(bool enabled);
+/// True when the vector kernels are compiled in, the CPU has AVX2 and FMA, and they are allowed.
+bool vector_kernels();
 using Tangent = Eigen::Matrix<double, 9, 9>;
 
 /// Flat index of the component (a, J) of a 3×3 tensor in a Tangent.
