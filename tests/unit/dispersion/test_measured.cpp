@@ -280,3 +280,33 @@ TEST(Measured, AtomsThatLeaveTheAxisOrTheirPlaneAreRefused) {
   EXPECT_NE(wrong.find("all atoms lie in one lattice plane"), std::string::npos) << wrong;
   EXPECT_NE(wrong.find("--axis"), std::string::npos) << wrong;
 }
+
+// The time-averaged positions of a thermal crystal scatter within a plane: measured, the 32
+// atoms of a (100) plane of fcc LJ at T* = 0.4 over 2000 frames spread over 0.0058 (spacing
+// 0.79). Such a set — four offsets ±0.0012, ±0.0036, 0.0024 apart, the first plane straddling
+// the periodic boundary — is 16 planes (a gap tolerance of 1e-3 L/∛n = 0.0016 split each
+// plane and refused the trajectory as unevenly spaced).
+TEST(Measured, ThermalScatterWithinPlanesKeepsThePlanes) {
+  const std::size_t planes = 16, per = 32;
+  const double h = 0.79354;
+  pdcg::atomistic::Box box;
+  box.lo = {-0.15, 0, 0};
+  box.hi = {-0.15 + planes * h, 3.17, 3.17};
+  box.periodic = {true, true, true};
+  std::vector<double> ref;
+  for (std::size_t p = 0; p < planes; ++p)
+    for (std::size_t k = 0; k < per; ++k) {
+      const double d = 0.0012 * (2.0 * static_cast<double>((k + p) % 4) - 3.0);
+      ref.insert(ref.end(), {box.lo[0] + 0.001 + static_cast<double>(p) * h + d,
+                             0.1 * static_cast<double>(k % 8), 0.4 * static_cast<double>(k / 8)});
+    }
+  const LatticePlanes lp = find_planes(ref, box, 0, "thermal.dump");
+  ASSERT_EQ(lp.planes, planes);
+  EXPECT_NEAR(lp.spacing, h, 1e-12);
+  // the atoms of one plane share an index, consecutive planes consecutive indices (mod 16)
+  const int first = lp.plane_of_atom[0];
+  for (std::size_t p = 0; p < planes; ++p)
+    for (std::size_t k = 0; k < per; ++k)
+      EXPECT_EQ(lp.plane_of_atom[p * per + k], static_cast<int>((first + static_cast<int>(p)) % 16))
+          << "plane " << p << " atom " << k;
+}
