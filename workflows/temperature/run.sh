@@ -2,7 +2,8 @@
 # Statistical bodies against MD at a temperature (docs/temperature.md).
 #
 #   workflows/temperature/run.sh [OUT=results/temperature] [T ...]     (~2 min on 2 busy cores)
-#   env: PDCG=/path/to/pdcg, CELLS (4: 256 atoms), EQUIL (10000), SAMPLE (20000), EVERY (100)
+#   env: PDCG=/path/to/pdcg, CELLS (4: 256 atoms), EQUIL (10000), SAMPLE (20000), EVERY (100),
+#        ELASTIC=1 (isothermal stiffness, §3), DISPERSION=1 (phonons at T, §3.2)
 #
 # For each T* (default 0.05 0.2 0.4; k_B T/ε, units lj): LAMMPS (md.in) relaxes fcc LJ
 # (lj/cut 2.5, shifted) at T = 0, holds that volume, equilibrates with Nosé–Hoover NVT and
@@ -54,4 +55,10 @@ A0=$(grep -h "^LATTICE a0" "$OUT"/T_*/log.lammps | head -1 | awk '{print $4}')
 if [[ "${ELASTIC:-0}" = 1 ]]; then
   /usr/bin/python3 "$HERE/elastic.py" "$OUT" "${TEMPS[@]}"
   (cd "$OUT" && /usr/bin/python3 "$HERE/cutoff_crossings.py")
+fi
+# phonons at T (docs/temperature.md §3.2): measured dispersion of NVE MD (8×4×4 cells, at the
+# T = 0 volume and at zero pressure) against the static and quasi-harmonic model dispersions;
+# 12 MD runs of 512 atoms, ~5 min CPU in all: DISPERSION=1 (or dispersion.py OUT [lj|cu] alone)
+if [[ "${DISPERSION:-0}" = 1 ]]; then
+  /usr/bin/python3 "$HERE/dispersion.py" "$OUT/dispersion" ${DISPERSION_SYSTEMS:-lj cu}
 fi
