@@ -2,7 +2,7 @@
 """Phonons at a temperature: measured dispersion of MD against the static and quasi-harmonic
 models (docs/temperature.md §3.2).
 
-    dispersion.py OUT [lj|cu ...]          (run.sh calls it with DISPERSION=1; ~8 min CPU)
+    dispersion.py OUT [lj|cu ...]      (run.sh with DISPERSION=1; ~10 min CPU)
     env: PDCG, REUSE=1 (keep OUT/<sys>_<T>_<ens>/traj.dump of an earlier run)
 
 For each system (fcc LJ, lj/cut 2.5 shifted, T* = 0.05 0.2 0.4; Cu EAM Cu_u3.eam, 300 600
