@@ -2,6 +2,8 @@
 """Statistical bodies against LAMMPS NVT at a temperature (docs/temperature.md).
 
     analyse.py OUT T [T ...]        (after md.in wrote OUT/T_<T>/; run.sh calls it)
+    SYSTEM=cu analyse.py OUT T ...  (after md_cu.in wrote OUT/T_<T>/: Cu EAM, T in K, p in GPa;
+                                     the Gaussian expectations by sampling, EAM being many-body)
 
 Reference (LAMMPS, md.in): every 10 steps pe and the pressure tensor p (with and without its
 kinetic part); mean and error bar from block averages (20 blocks; the error of the mean is the
@@ -31,27 +33,50 @@ import sys
 import numpy as np
 
 PDCG = os.environ.get("PDCG", "pdcg")
-POTENTIAL = """units lj
+SYSTEM = os.environ.get("SYSTEM", "lj")  # lj: md.in; cu: md_cu.in (Cu EAM, units metal)
+if SYSTEM == "lj":
+    POTENTIAL = """units lj
 atom_style atomic
 mass 1 1.0
 pair_style lj/cut 2.5
 pair_coeff 1 1 1.0 1.0 2.5
 pair_modify shift yes
 """
-FAMILY = "3.0"  # cutoff 2.5 + skin 0.5: relative displacements stay far below 0.5 at T ≤ 0.4
+    FAMILY = "3.0"  # cutoff 2.5 + skin 0.5: relative displacements stay far below 0.5 at T ≤ 0.4
+    KB = 1.0  # k_B in the energy unit per temperature unit
+    MD_TO_UNIT = PD_TO_UNIT = 1.0  # pressures in ε/σ³
+    # Gaussian expectation: Gauss–Hermite order 4 (pair potential), order 6 for its error
+    GAUSS, GAUSS_CHECK = ["--order", "4"], ["--order", "6"]
+else:
+    POTENTIAL = """units metal
+atom_style atomic
+mass 1 63.55
+pair_style eam
+pair_coeff 1 1 Cu_u3.eam
+"""
+    # cutoff 4.95 Å + skin 1.0 Å: the 5th shell (5.72 Å) comes within the cutoff in some frames
+    # at 900 K (skin 0.5 Å: the empirical body missed those pairs, p 4.4e-5 off the frames)
+    FAMILY = "5.95"
+    KB = 8.617333262e-5  # eV/K
+    # bar → GPa; eV/Å³ → GPa with LAMMPS's own factor (nktv2p of units metal, 1.6021765e6 bar)
+    MD_TO_UNIT, PD_TO_UNIT = 1e-4, 160.21765
+    # EAM is many-body: the expectation by sampling joint draws (docs/bodies.md §2);
+    # 4× the samples for its error
+    GAUSS, GAUSS_CHECK = ["--samples", "500"], ["--samples", "2000"]
 BLOCKS = 20
 rows_failures = []
 
 
 def pdcg(*args):
-    subprocess.run([PDCG, "-q", *args], check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([PDCG, "-q", *args], check=True, stdout=subprocess.DEVNULL,
+                   cwd="/usr/share/lammps/potentials")
 
 
 def energy(body):
     out = subprocess.run([PDCG, "-q", "energy", body, "--F", "1 0 0 0 1 0 0 0 1", "--json",
                           "--stress"], check=True, capture_output=True, text=True).stdout
     j = json.loads(out)
-    return j["energy"], np.array(j["stress"]).reshape(3, 3), j["volume"]
+    return j["energy"], np.array(j["stress"]).reshape(3, 3) * PD_TO_UNIT, j["volume"]
 
 
 def block_mean(x, blocks=BLOCKS):
@@ -100,16 +125,19 @@ def analyse(out, T):
     pot = os.path.join(d, "potential.in")
     th = np.loadtxt(os.path.join(d, "thermo.txt"))
     fr = np.loadtxt(os.path.join(d, "frames.txt"))
+    th[:, 2:14] *= MD_TO_UNIT
+    fr[:, 2:8] *= MD_TO_UNIT
     frames = read_dump(os.path.join(d, "frames.dump"))
     N = len(frames[0][2])
     L = box_lengths(frames[0][0])
     V = float(np.prod(L))
     rho = N / V
+    kin = rho * KB * T * PD_TO_UNIT  # ideal-gas pressure ρ k_B T
     rows = []
 
     def row(name, e, e_err, pv, pv_err, shear, note=""):
         rows.append(dict(T=T, model=name, e_per_atom=e, e_err=e_err, p_virial=pv,
-                         p_virial_err=pv_err, p_total=pv + (rho * T if name != "MD" else 0),
+                         p_virial_err=pv_err, p_total=pv + (kin if name != "MD" else 0),
                          max_shear=shear, note=note))
 
     # MD: every 10 steps; p total = thermo p, p virial = compute pressure NULL virial
@@ -137,24 +165,24 @@ def analyse(out, T):
          "statistical", "--statistics", "empirical", "--family-cutoff", FAMILY, "-o",
          os.path.join(d, "empirical.h5"))
     model("empirical", os.path.join(d, "empirical.h5"), "the frames (exact: = MD frames)", fee, fpe)
-    for order in (4, 6):
+    for name, rule in (("gauss4", GAUSS), ("gauss6", GAUSS_CHECK)):
         pdcg("atoms2pd", "--input", dump, "--frames", "0:-1", "--potential", pot, "--density",
-             "statistical", "--order", str(order), "--family-cutoff", FAMILY, "-o",
-             os.path.join(d, f"gauss{order}.h5"))
+             "statistical", *rule, "--family-cutoff", FAMILY, "-o", os.path.join(d, f"{name}.h5"))
     g6 = energy(os.path.join(d, "gauss6.h5"))
     half = nf // 2
     halves = []
     for a, b in ((0, half - 1), (half, nf - 1)):
         h = os.path.join(d, f"gauss_{a}.h5")
         pdcg("atoms2pd", "--input", dump, "--frames", f"{a}:{b}", "--potential", pot,
-             "--density", "statistical", "--order", "4", "--family-cutoff", FAMILY, "-o", h)
+             "--density", "statistical", *GAUSS, "--family-cutoff", FAMILY, "-o", h)
         halves.append(energy(h))
     herr = abs(halves[0][0] - halves[1][0]) / 2 / N
     hperr = abs(np.trace(halves[0][1]) - np.trace(halves[1][1])) / 6
     E4, P4, _ = energy(os.path.join(d, "gauss4.h5"))
     cub = abs(E4 - g6[0]) / N
     model("gaussian", os.path.join(d, "gauss4.h5"),
-          f"order 4; |order 6 − 4| = {cub:.1e}; error: halves of the frames", herr, hperr)
+          f"{' '.join(GAUSS)}; |{' '.join(GAUSS_CHECK)} − that| = {cub:.1e}; error: halves of "
+          "the frames", herr, hperr)
     # decorrelated frames: each atom's frame index permuted independently, 5 shuffles
     rng = random.Random(12345)
     ids = frames[0][2][:, 0].astype(int)
@@ -194,10 +222,10 @@ def analyse(out, T):
     model("static (means)", os.path.join(d, "static.h5"), "no fluctuation")
     lattice = os.path.join(d, "lattice.dump")
     pdcg("atoms2pd", "--input", lattice, "--potential", pot, "--density", "statistical",
-         "--temperature", str(T), "--order", "4", "--family-cutoff", FAMILY, "-o",
+         "--temperature", str(T), *GAUSS, "--family-cutoff", FAMILY, "-o",
          os.path.join(d, "einstein.h5"))
     model("einstein (--temperature)", os.path.join(d, "einstein.h5"),
-          "local-harmonic widths, order 4")
+          f"local-harmonic widths, {' '.join(GAUSS)}")
     # widths: fitted (frames) vs --temperature
     var_fit = float(dd.var(axis=0).mean())  # per direction, averaged over atoms and x y z
     import h5py
@@ -223,7 +251,7 @@ def analyse(out, T):
 
 
 def main():
-    out = sys.argv[1]
+    out = os.path.abspath(sys.argv[1])
     rows, widths = [], []
     for T in sys.argv[2:]:
         r, w = analyse(out, T)

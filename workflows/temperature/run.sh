@@ -2,7 +2,9 @@
 # Statistical bodies against MD at a temperature (docs/temperature.md).
 #
 #   workflows/temperature/run.sh [OUT=results/temperature] [T ...]     (~2 min on 2 busy cores)
-#   env: PDCG=/path/to/pdcg, CELLS (4: 256 atoms), EQUIL (10000), SAMPLE (20000), EVERY (100)
+#   env: PDCG=/path/to/pdcg, SYSTEM (lj | cu), CELLS (4: 256 atoms), EQUIL (10000),
+#        SAMPLE (20000), EVERY (100),
+#        ELASTIC=1 (isothermal stiffness, §3), DISPERSION=1 (phonons at T, §3.2)
 #
 # For each T* (default 0.05 0.2 0.4; k_B T/ε, units lj): LAMMPS (md.in) relaxes fcc LJ
 # (lj/cut 2.5, shifted) at T = 0, holds that volume, equilibrates with Nosé–Hoover NVT and
@@ -18,7 +20,13 @@ source "$HERE/../lib/setup.sh"
 OUT=${1:-$PDCG_ROOT/results/temperature}
 shift || true
 TEMPS=("$@")
-[[ ${#TEMPS[@]} -eq 0 ]] && TEMPS=(0.05 0.2 0.4)
+# SYSTEM=lj (md.in, T* = 0.05 0.2 0.4) or cu (md_cu.in, Cu EAM, T = 300 600 900 K; §2.1)
+export SYSTEM=${SYSTEM:-lj}
+DECK=md.in
+[[ $SYSTEM = cu ]] && DECK=md_cu.in
+if [[ ${#TEMPS[@]} -eq 0 ]]; then
+  if [[ $SYSTEM = cu ]]; then TEMPS=(300 600 900); else TEMPS=(0.05 0.2 0.4); fi
+fi
 CELLS=${CELLS:-4}
 EQUIL=${EQUIL:-10000}
 SAMPLE=${SAMPLE:-20000}
@@ -38,8 +46,9 @@ for T in "${TEMPS[@]}"; do
   echo "== T* = $T: LAMMPS NVT ($EQUIL + $SAMPLE steps, $((4 * CELLS ** 3)) atoms)"
   t0=$(date +%s.%N)
   c0=$(awk '{print $14 + $15 + $16 + $17}' /proc/$$/stat)
-  lmp -in "$HERE/md.in" -var T "$T" -var seed 4711 -var cells "$CELLS" -var equil "$EQUIL" \
-    -var sample "$SAMPLE" -var every "$EVERY" -var out "$d" -log "$d/log.lammps" -screen none
+  (cd /usr/share/lammps/potentials && lmp -in "$HERE/$DECK" -var T "$T" -var seed 4711 \
+    -var cells "$CELLS" -var equil "$EQUIL" -var sample "$SAMPLE" -var every "$EVERY" \
+    -var out "$d" -log "$d/log.lammps" -screen none)
   t1=$(date +%s.%N)
   c1=$(awk '{print $14 + $15 + $16 + $17}' /proc/$$/stat)
   tck=$(getconf CLK_TCK)
@@ -47,11 +56,19 @@ for T in "${TEMPS[@]}"; do
 done
 /usr/bin/python3 "$HERE/analyse.py" "$OUT" "${TEMPS[@]}"
 # quasi-harmonic pressure at the T = 0 volume from LAMMPS's Hessian (docs/temperature.md §3)
-A0=$(grep -h "^LATTICE a0" "$OUT"/T_*/log.lammps | head -1 | awk '{print $4}')
-/usr/bin/python3 "$HERE/qha.py" "$A0" "$CELLS" "${TEMPS[@]}" | tee "$OUT/qha.txt"
+if [[ $SYSTEM = lj ]]; then
+  A0=$(grep -h "^LATTICE a0" "$OUT"/T_*/log.lammps | head -1 | awk '{print $4}')
+  /usr/bin/python3 "$HERE/qha.py" "$A0" "$CELLS" "${TEMPS[@]}" | tee "$OUT/qha.txt"
+fi
 # isothermal stiffness C11, C12, C44 (MD at strains ±0.01 vs pdcg's quasi-harmonic free
 # energy; 12 more MD runs, ~50 s CPU): ELASTIC=1
 if [[ "${ELASTIC:-0}" = 1 ]]; then
   /usr/bin/python3 "$HERE/elastic.py" "$OUT" "${TEMPS[@]}"
   (cd "$OUT" && /usr/bin/python3 "$HERE/cutoff_crossings.py")
+fi
+# phonons at T (docs/temperature.md §3.2): measured dispersion of NVE MD (8×4×4 cells, at the
+# T = 0 volume and at zero pressure) against the static and quasi-harmonic model dispersions;
+# 12 MD runs of 512 atoms, ~5 min CPU in all: DISPERSION=1 (or dispersion.py OUT [lj|cu] alone)
+if [[ "${DISPERSION:-0}" = 1 ]]; then
+  /usr/bin/python3 "$HERE/dispersion.py" "$OUT/dispersion" ${DISPERSION_SYSTEMS:-lj cu}
 fi
