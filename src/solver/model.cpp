@@ -174,6 +174,7 @@ void Model::build_defect_flux() {
   corr_.offsets.assign(nw + 1, 0);
   corr_.index.clear();
   corr_coef_.clear();
+  corr_base_.clear();
   if (nw == 0) return;
   const Discretization& body = *body_;
   const auto& fam = body.families();
@@ -266,6 +267,39 @@ void Model::build_defect_flux() {
     }
     corr_coef_[at] = self;
     corr_.offsets[w + 1] = static_cast<std::int64_t>(corr_.index.size());
+  }
+  corr_base_ = corr_coef_;
+}
+
+// Detached points (docs/solver.md §3, "Detached points"): a point held by its anchor spring
+// in every component (no stencil couples it, or a parked fragment) would otherwise keep its
+// weak-form pair terms: ½(P(F̄_k) + P(F̄_l)) h_kl still pulls it and, with the opposite
+// sign, its former neighbour l across the cut. The
+// spring would hold that pull, and a spring is no reaction of any set: Σ reactions +
+// Σ tractions = the spring forces. Dropping the pair from both rows keeps every row pair
+// antisymmetric (Σ_k f_k = 0) and only changes rows at the cut. The pattern stays (zero
+// coefficients), so the tangent, the matrix-free product and the row sums follow.
+void Model::drop_flux_of_detached_points() {
+  if (corr_base_.empty()) return;
+  corr_coef_ = corr_base_;
+  std::vector<char> off;
+  for (std::size_t a = 0; a < anchor_points_.size(); ++a) {
+    const int w = weak_id_[anchor_points_[a]];
+    if (w < 0) continue;
+    bool held = true;
+    for (int c = 0; c < d_; ++c) held = held && !std::isnan(anchor_u_[d_ * a + c]);
+    if (!held) continue;  // a pin of a partly held piece: still coupled to its piece
+    off.resize(weak_points_.size(), 0);
+    off[w] = 1;
+  }
+  if (off.empty()) return;
+  for (std::size_t w = 0; w < weak_points_.size(); ++w) {
+    const auto b = corr_.begin(w);  // the row's own entry, then its flux neighbours
+    for (auto c = b + 1; c < corr_.end(w); ++c)
+      if (off[w] || off[corr_.index[c]]) {
+        corr_coef_[b] -= corr_coef_[c];
+        corr_coef_[c] = Vec3::Zero();
+      }
   }
 }
 
@@ -536,6 +570,7 @@ void Model::set_anchors(std::vector<int> points, std::vector<double> targets, do
   anchor_points_ = std::move(points);
   anchor_u_ = std::move(targets);
   anchor_k_ = stiffness;
+  drop_flux_of_detached_points();
 }
 
 void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow* K) const {
