@@ -271,35 +271,55 @@ void Model::build_defect_flux() {
   corr_base_ = corr_coef_;
 }
 
-// Detached points (docs/solver.md §3, "Detached points"): a point held by its anchor spring
-// in every component (no stencil couples it, or a parked fragment) would otherwise keep its
-// weak-form pair terms: ½(P(F̄_k) + P(F̄_l)) h_kl still pulls it and, with the opposite
-// sign, its former neighbour l across the cut. The
-// spring would hold that pull, and a spring is no reaction of any set: Σ reactions +
-// Σ tractions = the spring forces. Dropping the pair from both rows keeps every row pair
-// antisymmetric (Σ_k f_k = 0) and only changes rows at the cut. The pattern stays (zero
-// coefficients), so the tangent, the matrix-free product and the row sums follow.
-void Model::drop_flux_of_detached_points() {
+// Anchored pieces (docs/solver.md §3, "Anchored pieces"): rupture parks a point that no
+// stencil couples any more (and, on request, every point of a free fragment) on an anchor
+// spring, and pins a piece held in some directions only along the others. A weak-form pair
+// term −½(P(F̄_k) + P(F̄_l)) h_kl between two points that no chain of live stencils connects
+// any more would still act across the cut; if one side is anchored, its springs — no
+// reaction of any set — hold that pull, and Σ reactions + Σ tractions = Σ spring forces ≠ 0.
+// So the pairs between different pieces are dropped (from both rows: each row pair stays
+// antisymmetric, Σ_k f_k = 0 is kept) wherever either piece holds an anchor. Pieces: union–find
+// over the members with nonzero G of every energy stencil of nonzero weight (the coupling
+// Rupture::update_anchors uses). The pattern stays (zero coefficients), so the tangent, the
+// matrix-free product and the row sums, which read these coefficients, follow.
+void Model::cut_flux_at_anchored_pieces() {
   if (corr_base_.empty()) return;
   corr_coef_ = corr_base_;
-  std::vector<char> off;
-  for (std::size_t a = 0; a < anchor_points_.size(); ++a) {
-    const int w = weak_id_[anchor_points_[a]];
-    if (w < 0) continue;
-    bool held = true;
-    for (int c = 0; c < d_; ++c) held = held && !std::isnan(anchor_u_[d_ * a + c]);
-    if (!held) continue;  // a pin of a partly held piece: still coupled to its piece
-    off.resize(weak_points_.size(), 0);
-    off[w] = 1;
+  if (anchor_points_.empty()) return;
+  const std::size_t N = body_->size();
+  std::vector<int> parent(N);
+  for (std::size_t k = 0; k < N; ++k) parent[k] = static_cast<int>(k);
+  auto find = [&](int k) {
+    while (parent[k] != k) k = parent[k] = parent[parent[k]];
+    return k;
+  };
+  const Stencils& S = *energy_;
+  for (std::size_t s = 0; s < S.size(); ++s) {
+    if (!(S.weight[s] > 0)) continue;
+    int first = -1;
+    for (auto q = S.offsets[s]; q < S.offsets[s + 1]; ++q) {
+      bool live = false;
+      for (int a = 0; a < d_; ++a) live = live || S.grad[static_cast<std::size_t>(q) * d_ + a] != 0;
+      if (!live) continue;
+      const int r = find(S.index[q]);
+      if (first < 0)
+        first = r;
+      else if (r != first)
+        parent[r] = first;
+    }
   }
-  if (off.empty()) return;
+  std::vector<char> anchored_piece(N, 0);
+  for (int k : anchor_points_) anchored_piece[find(k)] = 1;
   for (std::size_t w = 0; w < weak_points_.size(); ++w) {
+    const int pk = find(weak_points_[w]);
     const auto b = corr_.begin(w);  // the row's own entry, then its flux neighbours
-    for (auto c = b + 1; c < corr_.end(w); ++c)
-      if (off[w] || off[corr_.index[c]]) {
+    for (auto c = b + 1; c < corr_.end(w); ++c) {
+      const int pl = find(weak_points_[corr_.index[c]]);
+      if (pk != pl && (anchored_piece[pk] || anchored_piece[pl])) {
         corr_coef_[b] -= corr_coef_[c];
         corr_coef_[c] = Vec3::Zero();
       }
+    }
   }
 }
 
@@ -570,7 +590,7 @@ void Model::set_anchors(std::vector<int> points, std::vector<double> targets, do
   anchor_points_ = std::move(points);
   anchor_u_ = std::move(targets);
   anchor_k_ = stiffness;
-  drop_flux_of_detached_points();
+  cut_flux_at_anchored_pieces();
 }
 
 void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow* K) const {

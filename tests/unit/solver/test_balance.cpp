@@ -380,7 +380,7 @@ TEST(ForceBalance, JitteredPointClouds) {
   }
 }
 
-// Detached points (docs/solver.md §3, "Detached points"): every bond of two weak points of
+// Detached points (docs/solver.md §3, "Anchored pieces"): every bond of two weak points of
 // the free left edge of the pre-cracked sheet is cut, so no stencil couples them and the
 // rupture commit parks them on anchor springs. Their weak-form pair terms are dropped: the
 // springs carry no force (the points stay where they were parked) and the reactions balance
@@ -431,4 +431,53 @@ TEST(ForceBalance, DetachedPointsPullOnNothing) {
               drift / g.spacing);
   EXPECT_LT(rr.balance, 1e-6);
   EXPECT_LT(drift, 1e-12 * g.spacing);  // nothing pulls: round-off of the Newton update
+}
+
+// A piece held in some directions only: a chip of 4 × 2 points cut out of the bottom edge
+// under the bottom grip (u_y = 0) is free to slide in x, so the rupture commit pins one of its
+// points along x (RuptureOptions::pin_partly_held). No pair term of the weak-form flux may
+// act across the cut, or that pin — no reaction of any set — carries their sum (8.5e-4 of
+// the load before the pairs between anchored pieces and the rest were cut). ≤ 1e-6: the
+// Newton tolerance 1e-11 (measured 9.5e-13).
+TEST(ForceBalance, ChipOnASlidingGripIsPulledByNothing) {
+  GridSpec g;
+  g.spacing = 0.05;
+  g.cracks.push_back({Vec3(0.0, 0.5, 0), Vec3(0.3, 0.5, 0)});
+  Discretization body = Discretization::grid(g);
+  const auto mat = make_neo_hookean({1.0, 100.0}, Kinematics::plane_stress);
+  Model model(body, *mat);
+  const double h = 0.5 * g.spacing;
+  std::vector<DisplacementSet> ds(3);
+  ds[0] = {"bottom", select(body, [&](const Vec3& x) { return x.y() < h + 1e-9; }), {}};
+  ds[0].component[1] = [](double) { return 0.0; };
+  ds[1] = {"pin",
+           select(body, [&](const Vec3& x) { return x.y() < h + 1e-9 && x.x() > 1 - h - 1e-9; }),
+           {}};
+  ds[1].component[0] = [](double) { return 0.0; };
+  ds[2] = {"top", select(body, [&](const Vec3& x) { return x.y() > 1 - h - 1e-9; }), {}};
+  ds[2].component[1] = [](double t) { return 0.11 * t; };
+  NewtonOptions no;
+  no.steps = 1;
+  no.tolerance = 1e-11;
+  StaticSolver solver(model, ds, {}, no);
+  solver.run();
+  Rupture rup(body, model, {RuptureCriterion::bond_stretch, 10.0, 200});
+  std::vector<char> held(model.dofs(), 0);
+  for (const auto& s : ds)
+    for (int p : s.points)
+      for (int a = 0; a < 2; ++a)
+        if (s.component[a]) held[2 * p + a] = 1;
+  rup.set_held_dofs(held);
+  auto chip = [](const Vec3& x) { return x.x() > 0.4 && x.x() < 0.6 && x.y() < 0.1; };
+  const auto& fam = body.families();
+  for (std::size_t i = 0; i < body.size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q)
+      if (chip(body.positions()[i]) != chip(body.positions()[fam.index[q]]))
+        body.break_bond(static_cast<int>(i), fam.index[q]);
+  rup.commit(solver.displacement());
+  ASSERT_EQ(rup.pinned_pieces(), 1u);
+  StepReport rr;
+  ASSERT_TRUE(solver.reequilibrate(rr));
+  std::printf("chip on the bottom grip: balance %.2e of the load\n", rr.balance);
+  EXPECT_LT(rr.balance, 1e-6);
 }
