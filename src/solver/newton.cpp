@@ -400,7 +400,8 @@ double StaticSolver::force_balance(Vec3* sum, double* load) const {
   }
   if (sum) *sum = b;
   if (load) *load = scale;
-  return scale > 0 ? b.norm() / scale : b.norm();
+  peak_load_ = std::max(peak_load_, scale);
+  return peak_load_ > 0 ? b.norm() / peak_load_ : b.norm();
 }
 
 bool StaticSolver::newton(double t_target, StepReport& rep) {

@@ -135,6 +135,10 @@ class Model {
   /// spring f_k = κ (u_k − u⁰_k) (energy ½κ|u_k − u⁰_k|²) that exerts no force on
   /// any other point. Empty (and not looked at per bond) without rupture. A NaN target
   /// component has no spring (a pin in the other components only).
+  /// The weak-form flux's pair terms between points of different pieces (no chain of live
+  /// stencils connects them) are dropped from both rows where either piece holds an anchor
+  /// (docs/solver.md §3, "Anchored pieces"): nothing pulls an anchored piece across the cut,
+  /// so its springs — no reaction of any set — carry no force at equilibrium.
   void set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness);
   const std::vector<int>& anchors() const { return anchor_points_; }
 
@@ -206,6 +210,8 @@ class Model {
   // stresses enter it and their coefficients.
   Csr corr_;
   std::vector<Vec3> corr_coef_;
+  std::vector<Vec3> corr_base_;  // corr_coef_ of the intact body (set_anchors cuts pairs)
+  void cut_flux_at_anchored_pieces();
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   mutable Csr adjacency_;
   mutable std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)

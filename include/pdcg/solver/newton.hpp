@@ -228,8 +228,10 @@ class StaticSolver {
   Vec3 reaction(std::size_t set) const;
   /// Global force balance of the current state: |Σ reactions + Σ applied tractions| (each
   /// prescribed component counted once, plus the Newton residual of the free ones) divided
-  /// by the load, the largest force of a displacement or traction set (docs/solver.md §3).
-  /// sum and load, if given, receive the vector sum and the load.
+  /// by the load, the largest force of a displacement or traction set — here or at any earlier
+  /// call of this solver (after a complete separation the current reactions are round-off and
+  /// would make any sum "large"; docs/solver.md §3). sum and load, if given, receive the vector
+  /// sum and the current load.
   double force_balance(Vec3* sum = nullptr, double* load = nullptr) const;
   const Eigen::VectorXd& internal_force() const { return f_; }
   const std::vector<DisplacementSet>& displacement_sets() const { return dsets_; }
@@ -278,6 +280,7 @@ class StaticSolver {
   std::shared_ptr<Solvers> solvers_;
   InadmissibleHandler inadmissible_;
   double force_floor_ = 0.0;
+  mutable double peak_load_ = 0.0;  // force_balance: the largest load met so far
   int factor_reuse_ = 0;
 };
 
