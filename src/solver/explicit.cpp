@@ -28,16 +28,9 @@ ExplicitSolver::ExplicitSolver(const Model& model, std::vector<DisplacementSet> 
     for (int p : dsets_[s].points)
       for (int a = 0; a < d; ++a)
         if (dsets_[s].component[a]) prescribed_[d * p + a] = static_cast<int>(s << 2 | a);
-  // traction face areas, as StaticSolver: dS_k = max(0, s_k · n̂), n̂ the set's mean normal
-  const auto& surf = model.body().surface();
-  for (const auto& ts : tsets_) {
-    Vec3 nsum = Vec3::Zero();
-    for (int p : ts.points) nsum += surf[p];
-    const Vec3 nh = nsum.norm() > 0 ? Vec3(nsum.normalized()) : Vec3::Zero();
-    std::vector<double> area;
-    for (int p : ts.points) area.push_back(std::max(0.0, surf[p].dot(nh)));
-    traction_area_.push_back(std::move(area));
-  }
+  // traction face areas, as StaticSolver (traction_face_areas)
+  for (const auto& ts : tsets_)
+    traction_area_.push_back(traction_face_areas(model.body(), ts.points));
   u_ = Eigen::VectorXd::Zero(n);
   v_ = Eigen::VectorXd::Zero(n);
   const double crit = critical_time_step(u_);

@@ -23,6 +23,18 @@
 
 namespace pdcg::solver {
 
+std::vector<double> traction_face_areas(const Discretization& body,
+                                        const std::vector<int>& points) {
+  const auto& surf = body.surface();
+  Vec3 nsum = Vec3::Zero();
+  for (int p : points) nsum += surf[p];
+  const Vec3 nh = nsum.norm() > 0 ? Vec3(nsum.normalized()) : Vec3::Zero();
+  std::vector<double> area;
+  area.reserve(points.size());
+  for (int p : points) area.push_back(std::max(0.0, surf[p].dot(nh)));
+  return area;
+}
+
 // The reduced tangent uses 64-bit indices, so that UMFPACK runs as umfpack_dl_* and CHOLMOD
 // through its cholmod_l_* interface: the int versions address their workspace with int
 // (at most 2³¹ units) and fail with "out of memory" on the LU of the 2D 1.6·10⁵-point plate
@@ -237,15 +249,8 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
       free_dofs_.push_back(static_cast<int>(i));
     }
   // Traction face areas.
-  const auto& surf = model.body().surface();
-  for (const auto& ts : tsets_) {
-    Vec3 nsum = Vec3::Zero();
-    for (int p : ts.points) nsum += surf[p];
-    const Vec3 nh = nsum.norm() > 0 ? Vec3(nsum.normalized()) : Vec3::Zero();
-    std::vector<double> area;
-    for (int p : ts.points) area.push_back(std::max(0.0, surf[p].dot(nh)));
-    traction_area_.push_back(std::move(area));
-  }
+  for (const auto& ts : tsets_)
+    traction_area_.push_back(traction_face_areas(model.body(), ts.points));
   u_.setZero(n);
   f_.setZero(n);
   Eigen::VectorXd f;

@@ -95,6 +95,11 @@ struct TractionSet {
   std::function<Vec3(double)> traction;
 };
 
+/// Face areas of a traction set's points: dS_k = max(0, s_k · n̂), s_k the surface vectors of
+/// the body and n̂ the set's mean normal (Σ s_k normalised; zero areas when it vanishes). The
+/// applied force on point k is t*(t) dS_k (static and explicit solvers alike).
+std::vector<double> traction_face_areas(const Discretization& body, const std::vector<int>& points);
+
 struct NewtonOptions {
   int steps = 20;           ///< nominal load steps, t = 0 … 1
   double tolerance = 1e-8;  ///< relative, for residual and increment
