@@ -24,7 +24,9 @@ Definitions (docs/fracture.md, 'A brittle reference system'):
   Griffith   sigma_G = sqrt(E G_c / (pi a)) / F(a/W), G_c = 2 gamma (relaxed edge energy of the
              close-packed row, gamma.txt), E the 2D Young modulus of the lattice (Cauchy-Born, from
              the pair potential), F the edge-crack factor of Tada's handbook (single edge notch,
-             tension, 1.12 at a/W -> 0)
+             tension, 1.12 at a/W -> 0; pin-loaded ends: an approximation for these grips);
+  sigma_G_statics  the Griffith load of this very sheet from LAMMPS statics (griffith.py,
+             SYSDIR/griffith_W<nx>.json), no geometry factor assumed
 """
 import argparse
 import json
@@ -183,8 +185,16 @@ def main():
         sG = math.sqrt(mod["E"] * Gc / (math.pi * a)) / F
         res.update(gamma=gamma, G_c=Gc, F_tada=F, sigma_griffith=sG,
                    peak_over_griffith=res["peak_stress"] / sG,
-                   sigma_sqrt_a=res["peak_stress"] * math.sqrt(a),
-                   K_peak_over_Kc=res["peak_stress"] * math.sqrt(math.pi * a) * F / math.sqrt(mod["E"] * Gc))
+                   sigma_sqrt_a=res["peak_stress"] * math.sqrt(a))
+
+    # Griffith load of this very sheet by molecular statics (griffith.py), if computed
+    gj = os.path.join(sysdir, f"griffith_W{int(meta['nx'])}.json")
+    if os.path.exists(gj):
+        gr = json.load(open(gj)).get(str(int(meta["notch"])))
+        if gr:
+            res.update(sigma_G_statics=gr["sigma_G"], eps_G_statics=gr["eps_G"],
+                       peak_over_G_statics=res["peak_stress"] / gr["sigma_G"],
+                       strain_over_G_statics=res["critical_strain"] / gr["eps_G"])
 
     # crack path from the dumps: rows of the reference lattice (first frame of sparse.dump)
     f0 = next(frames(os.path.join(run, "frames.dump")))[1]
@@ -227,7 +237,8 @@ def main():
     json.dump(res, open(os.path.join(run, "analysis.json"), "w"), indent=1)
     keys = ["atoms", "a", "rate", "peak_stress", "critical_strain", "init_strain", "speed",
             "speed_over_cR", "on_plane", "path_on_plane", "path_max_offset_rows", "path_on_plane_all", "defects_end", "sigma_griffith",
-            "peak_over_griffith", "sigma_sqrt_a"]
+            "peak_over_griffith", "sigma_G_statics", "peak_over_G_statics", "strain_over_G_statics",
+            "sigma_sqrt_a"]
     print(" ".join(f"{kk}={res[kk]:.4g}" if isinstance(res.get(kk), float) else f"{kk}={res.get(kk)}"
                    for kk in keys))
 

@@ -49,6 +49,11 @@ mkdir -p "$sysdir"
 echo "$system: a0 = $(cat "$sysdir/a0.txt"); $(tr '\n' ' ' < "$sysdir/gamma.txt" | cut -d' ' -f1-4)"
 for nx in $widths; do
   ny=$("$py" -c "print(round($nx/3**0.5))")
+  # Griffith load of each notched sheet by molecular statics (skipped when already computed)
+  list=$(for q in $notches; do "$py" -c "print(round($q*$nx))"; done | tr '\n' ' ')
+  if ! "$py" -c "import json,sys; d=json.load(open('$sysdir/griffith_W$nx.json')); sys.exit(0 if all(k in d for k in '$list'.split()) else 1)" 2> /dev/null; then
+    "$py" "$here/griffith.py" "$sysdir" --nx "$nx" --ny "$ny" --notch $list
+  fi
   for q in $notches; do
     notch=$("$py" -c "print(round($q*$nx))")
     for rate in $rates; do
