@@ -169,6 +169,11 @@ def main():
             res["speed"] = float(v)
             res["speed_window"] = [float(t[j1]), float(t[j2])]
     res["defects_end"] = int(ndef[-1])
+    # while the crack runs: the count when the tip first passes a + 0.7 (W - a) (at the end it
+    # also holds the edges of the separated halves as they spring back)
+    past = np.nonzero(tip > x2)[0]
+    if len(past):
+        res["defects_running"] = int(ndef[past[0]])
     res["defects_max"] = int(ndef.max())
 
     phi, rc = pair_energy(os.path.join(sysdir, "potential.mod"))
@@ -236,7 +241,7 @@ def main():
             res["path_on_plane_all"] = float(np.mean(offs == 0))
     json.dump(res, open(os.path.join(run, "analysis.json"), "w"), indent=1)
     keys = ["atoms", "a", "rate", "peak_stress", "critical_strain", "init_strain", "speed",
-            "speed_over_cR", "on_plane", "path_on_plane", "path_max_offset_rows", "path_on_plane_all", "defects_end", "sigma_griffith",
+            "speed_over_cR", "on_plane", "path_on_plane", "path_max_offset_rows", "path_on_plane_all", "defects_running", "defects_end", "sigma_griffith",
             "peak_over_griffith", "sigma_G_statics", "peak_over_G_statics", "strain_over_G_statics",
             "sigma_sqrt_a"]
     print(" ".join(f"{kk}={res[kk]:.4g}" if isinstance(res.get(kk), float) else f"{kk}={res.get(kk)}"

@@ -10,7 +10,7 @@ import sys
 
 COLS = ["run", "atoms", "W", "a", "a_over_W", "rate", "T", "peak_stress", "critical_strain",
         "init_strain", "init_stress", "speed", "speed_over_cR", "on_plane", "path_on_plane",
-        "path_max_offset_rows", "path_on_plane_all", "defects_end", "sigma_sqrt_a", "sigma_griffith",
+        "path_max_offset_rows", "path_on_plane_all", "defects_running", "defects_end", "sigma_sqrt_a", "sigma_griffith",
         "peak_over_griffith", "sigma_G_statics", "eps_G_statics", "peak_over_G_statics",
         "strain_over_G_statics", "wall_seconds"]
 

@@ -74,7 +74,10 @@ def main():
         print(f"W {o.nx} notch {n} a {a:.4f}: linear G(eps0={o.eps}) = {G0:.6g}, sigma0 = {s0:.6g} -> "
               f"eps_G {e1:.5f}, sigma_G {r['sigma_G_linear']:.5f}; at that strain G = {G1:.5g} G_c = {Gc:.5g}"
               f" -> eps_G {e2:.5f}, sigma_G {r['sigma_G']:.5f}")
-    json.dump(res, open(os.path.join(d, f"griffith_W{o.nx}.json"), "w"), indent=1)
+    path = os.path.join(d, f"griffith_W{o.nx}.json")
+    old = json.load(open(path)) if os.path.exists(path) else {}
+    old.update({str(k): v for k, v in res.items()})  # keep the notches computed before
+    json.dump(old, open(path, "w"), indent=1)
 
 
 if __name__ == "__main__":
