@@ -17,7 +17,8 @@ Systems (all 12-6 Lennard-Jones, eps = sigma = 1, or Morse):
   lj25    lj/cut 2.5, energy shifted (the flagship sheet's model)
   lj15    lj/cut 1.5, energy shifted: nearest neighbours only (second shell at sqrt(3) a0 = 1.94)
   ljsl15  lj/smooth/linear 1.5: force and energy continuous at the cutoff, nearest neighbours only
-  morseA_RC  morse D0 = 1, alpha = A (7, 10, 14), r0 = 2^(1/6), cutoff RC (1.5, 1.8), energy
+  morseA_RC  morse D0 = 1, alpha = A, r0 = 2^(1/6), cutoff RC (7_1.5, 7_1.8, 7_1.9, 6_1.8, 5_2.0,
+             10_1.5), energy
              shifted: nearest neighbours only
 """
 import argparse
