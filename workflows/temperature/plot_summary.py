@@ -11,10 +11,11 @@ Gaussian (independent atoms), Einstein (`--temperature`), quasi-harmonic (`--qua
 
 Where the numbers come from. Nothing here is computed from a model; every value is read:
   * by default from the tables of docs/temperature.md (this script parses them): §2 and §2.1
-    (E/N, p total of MD, gaussian, einstein, static), §3 (LJ: the quasi-harmonic pressure table
-    and the isothermal-stiffness table), §3.1 (Cu: the stiffness table, quasi-harmonic column
-    = the secant slopes over ±0.01, MD's protocol; its thermal pressure "p the thermal pressure
-    of the model: …" from the sentence under that table);
+    (E/N, p total of MD, gaussian, einstein, static; a model's p error is that of its p virial),
+    §3 (LJ: the quasi-harmonic pressure table and the isothermal-stiffness table), §3.1 (Cu: the
+    stiffness table, quasi-harmonic column = the secant slopes over ±0.01, MD's protocol, as
+    LJ's; its thermal pressure from the sentence "p the thermal pressure of the model: …"
+    under that table);
   * with --lj/--cu DIR, from the workflow's own outputs where they exist: DIR/table.csv
     (analyse.py: E/N, its error, p total, per T and model) and DIR/qha.txt (qha.py, LJ only),
     which replace the rows of the document at the temperatures they hold; each such value is
@@ -242,8 +243,8 @@ def plot(data, path):
             for m in ("static", "qha"):
                 lab, c, mk, ls = STYLE[m]
                 ax.plot(Ts, [D[T][m][k] for T in Ts], color=c, marker=mk, ls=ls, ms=4,
-                        label=lab if m == "static" else
-                        lab + (" (secant ±0.01)" if not lj else ""))
+                        label="static lattice (T = 0)" if m == "static" else
+                        lab + " (secant ±0.01)")
             mds = [D[T]["md"][k] for T in Ts]
             ax.fill_between(Ts, [0.97 * v for v in mds], [1.03 * v for v in mds],
                             color="tab:green", alpha=0.12, lw=0, label="MD ± 3 %")
