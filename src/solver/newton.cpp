@@ -899,13 +899,60 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   residual(rel);
   rep.residual_history.assign(1, rel);
   v = 0.5 * r_now.cwiseQuotient(lam);
-  int c_zero = 0;  // iterations with c = 0 (¹K's Rayleigh quotient ≤ 0: undamped)
+  int c_zero = 0;    // iterations with c = 0 (¹K's Rayleigh quotient ≤ 0: undamped)
+  int rejected = 0;  // steps rejected by the guard (J ≤ 0 far from equilibrium)
+  int last_reject = -2, streak = 0;  // streak: consecutive rejections from rest
+  Eigen::VectorXd lam_streak;
   int it = 0;
   for (; it < max_iterations && rel > tol; ++it) {
     for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += v[i];
     if (!grip_dof_.empty()) project_grips();
     r_old = r_now;
     bool admissible = model_->internal_force(u, f);
+    // a step from rest 4⁵ = 1024× shorter than the stable one still inverts: the forces drive
+    // the stencil through J = 0 (not an overshoot), it breaks as a near-equilibrium one would
+    const bool driven = streak >= 5;
+    if (!admissible && inadmissible_ && !(rel <= relax_break_residual_) && !driven) {
+      // Guard (docs/effects.md §2, "No breaking far from equilibrium"): an iterate far from
+      // equilibrium that inverts a stencil is a step rejection, not a failure of the
+      // material. A step with momentum overshot: back, and restart from rest (kinetic
+      // damping); a step from rest that inverts again: back, fictitious masses 4× heavier.
+      // (Heavier masses only at the inverted stencils' points, tried first, left ADR's
+      // damping estimate c_n at 4 and the cut sheet of the test unrelaxed after 50 000
+      // iterations.)
+      for (int i = 0; i < nf; ++i) u[free_dofs_[i]] -= v[i];
+      if (!grip_dof_.empty()) project_grips();
+      if (!model_->internal_force(u, f)) return false;  // the state before: admissible
+      residual(rel);
+      const bool from_rest = last_reject == it - 1;
+      last_reject = it;
+      ++rejected;
+      if (!from_rest) {
+        lam_streak = lam;
+        streak = 0;
+      } else {
+        lam *= 4.0;
+        ++streak;
+      }
+      v = 0.5 * r_now.cwiseQuotient(lam);
+      if (rejected % 100 == 0 || rejected <= 10)
+        log::debug(
+            "adaptive dynamic relaxation: J ≤ 0 at iteration {} (residual {:.3e} > {:.1e}): "
+            "step rejected, restart from rest{} ({} rejections)",
+            it, rel, relax_break_residual_, from_rest ? ", fictitious masses ×4" : "", rejected);
+      if (lam.maxCoeff() > 1e12 * std::max(1.0, f.norm())) {
+        rep.iterations = it;
+        rep.residual = rel;
+        rep.cutbacks = rejected;
+        return false;
+      }
+      continue;
+    }
+    if (!admissible && driven) {
+      lam = lam_streak;  // the masses before the rejections
+      streak = 0;
+    }
+    if (admissible) streak = 0;
     if (!admissible && inadmissible_ && inadmissible_(u)) {
       // the handler changed the model at u (rupture: inverted stencils broke): go on from
       // u with fictitious masses from the new tangent (stiffer rebuilt stencils). A tangent
@@ -969,6 +1016,7 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   rep.residual_history.push_back(rel);
   rep.iterations = it;
   rep.residual = rel;
+  rep.cutbacks = rejected;
   if (rel > tol) return false;
   u_ = u;
   f_ = f;
