@@ -903,20 +903,22 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
   int rejected = 0;  // steps rejected by the guard (J ≤ 0 far from equilibrium)
   int last_reject = -2, streak = 0;  // streak: consecutive rejections from rest
   Eigen::VectorXd lam_streak;
+  const double lam0_max = lam.maxCoeff();
   int it = 0;
   for (; it < max_iterations && rel > tol; ++it) {
     for (int i = 0; i < nf; ++i) u[free_dofs_[i]] += v[i];
     if (!grip_dof_.empty()) project_grips();
     r_old = r_now;
     bool admissible = model_->internal_force(u, f);
-    // a step from rest 4⁵ = 1024× shorter than the stable one still inverts: the forces drive
-    // the stencil through J = 0 (not an overshoot), it breaks as a near-equilibrium one would
+    // five rejections in a row, each within 3 iterations of the last (the masses up to 4⁵×
+    // heavier): the forces drive the stencil through J = 0 (not an overshoot), and it breaks
+    // as a near-equilibrium one would
     const bool driven = streak >= 5;
     if (!admissible && inadmissible_ && !(rel <= relax_break_residual_) && !driven) {
       // Guard (docs/effects.md §2, "No breaking far from equilibrium"): an iterate far from
       // equilibrium that inverts a stencil is a step rejection, not a failure of the
       // material. A step with momentum overshot: back, and restart from rest (kinetic
-      // damping); a step from rest that inverts again: back, fictitious masses 4× heavier.
+      // damping); the step right after a restart inverts: back, fictitious masses 4× heavier.
       // (Heavier masses only at the inverted stencils' points, tried first, left ADR's
       // damping estimate c_n at 4 and the cut sheet of the test unrelaxed after 50 000
       // iterations.)
@@ -924,15 +926,18 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
       if (!grip_dof_.empty()) project_grips();
       if (!model_->internal_force(u, f)) return false;  // the state before: admissible
       residual(rel);
-      const bool from_rest = last_reject == it - 1;
+      // from rest: the step right after a restart inverted; a streak: rejections at most
+      // 3 iterations apart (the forces bring the stencil back to J = 0 within a few steps)
+      const int gap = it - last_reject;
+      const bool from_rest = gap == 1;
       last_reject = it;
       ++rejected;
-      if (!from_rest) {
+      if (gap > 3) {
         lam_streak = lam;
         streak = 0;
       } else {
-        lam *= 4.0;
         ++streak;
+        if (from_rest) lam *= 4.0;
       }
       v = 0.5 * r_now.cwiseQuotient(lam);
       if (rejected % 100 == 0 || rejected <= 10)
@@ -940,7 +945,7 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
             "adaptive dynamic relaxation: J ≤ 0 at iteration {} (residual {:.3e} > {:.1e}): "
             "step rejected, restart from rest{} ({} rejections)",
             it, rel, relax_break_residual_, from_rest ? ", fictitious masses ×4" : "", rejected);
-      if (lam.maxCoeff() > 1e12 * std::max(1.0, f.norm())) {
+      if (lam.maxCoeff() > 1e12 * lam0_max) {
         rep.iterations = it;
         rep.residual = rel;
         rep.cutbacks = rejected;
