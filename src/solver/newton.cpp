@@ -1011,6 +1011,17 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
     }
     const double c = (num > 0 && den > 0) ? 2.0 * std::sqrt(num / den) : 0.0;
     if (c == 0.0) ++c_zero;
+    // c_n at the Gershgorin bound (ω = 2 with Δt = 1): the masses from the start tangent are
+    // too light for this state, and the iterates lock into a period-2 oscillation
+    // (docs/effects.md §2, "Thread count"): masses 4× heavier, restart from rest.
+    if (c >= 4.0 * (1 - 1e-6)) {
+      lam *= 4.0;
+      v = 0.5 * r_now.cwiseQuotient(lam);
+      log::debug("adaptive dynamic relaxation: c = {:.6f} at iteration {}: fictitious masses ×4", c,
+                 it);
+      if (lam.maxCoeff() > 1e12 * lam0_max) break;
+      continue;
+    }
     v = ((2.0 - c) * v + 2.0 * r_now.cwiseQuotient(lam)) / (2.0 + c);
     if (it % 500 == 0) rep.residual_history.push_back(rel);
     if (it % 2000 == 0)

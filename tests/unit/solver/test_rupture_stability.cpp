@@ -327,22 +327,31 @@ TEST(RuptureStability, RelaxationBreaksNoStencilFarFromEquilibrium) {
         rep.cutbacks, polished ? "converged" : "FAILED", s.body.broken_bonds(), *cut_bonds, *err);
     return s.body.broken_bonds();
   };
-  std::size_t cut = 0;
-  double err = 0;
-  const std::size_t broken = run(true, 50000, &cut, &err);
-  ASSERT_GT(cut, 0u);
-  EXPECT_EQ(broken, cut);
-  // Newton polishes to 1e-8 of the force floor (1e-4 of the stretched sheet's force); the
-  // halves' stiffness turns that into ≈ 1e-12 of a displacement of 0.3: 1e-9 leaves room
-  EXPECT_LT(err, 1e-9);
-  // The scheme before (every inversion breaks): the snapping faces invert stencils within
-  // the first 20 iterations and the cascade starts; 300 iterations show it (it ends with
-  // ≈ 750 spurious bonds after 3 223 iterations).
-  std::size_t cut0 = 0;
-  double err0 = 0;
-  const std::size_t broken0 = run(false, 300, &cut0, &err0);
-  EXPECT_EQ(cut0, cut);
-  EXPECT_GT(broken0, cut0 + 100);
+  // On one and on two threads (the sums of the model's force in another order; the run took
+  // another path on two before ADR raised the masses at c_n = 4, docs/effects.md §2).
+#ifdef _OPENMP
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+#else
+  for (int threads : {1}) {
+#endif
+    SCOPED_TRACE(threads);
+    std::size_t cut = 0;
+    double err = 0;
+    const std::size_t broken = run(true, 50000, &cut, &err);
+    ASSERT_GT(cut, 0u);
+    EXPECT_EQ(broken, cut);
+    // Newton polishes to 1e-8 of the force floor (1e-4 of the stretched sheet's force); the
+    // halves' stiffness turns that into ≈ 1e-12 of a displacement of 0.3: 1e-9 leaves room
+    EXPECT_LT(err, 1e-9);
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(saved);
+#endif
+  // (The scheme before the guard, every inversion breaks, broke > 100 spurious bonds here
+  // within 300 iterations when ADR locked at c_n = 4 with the start masses; with the masses
+  // raised there it relaxes the sheet without a break as well: docs/effects.md §2.)
 }
 
 // The model's evaluation does not depend on the thread count after a rupture rebuild: the
