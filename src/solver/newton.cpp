@@ -1000,10 +1000,15 @@ bool StaticSolver::relax(double tol, int max_iterations, StepReport& rep) {
     }
     residual(rel);
     // Kilic & Madenci's local diagonal stiffness and the damping coefficient
+    // Only dofs that move: a velocity below 1e-8 of the largest comes from a residual at
+    // round-off (the body in equilibrium away from the broken bonds), where k divides
+    // round-off by round-off (the cut sheet: terms of ±1e13 against a sum of −179 from the
+    // rest, their sign set by the thread count; docs/effects.md §2, "Thread count").
     double num = 0, den = 0;
+    const double v_min = 1e-8 * v.cwiseAbs().maxCoeff();
     for (int i = 0; i < nf; ++i) {
       const double ui = u[free_dofs_[i]];
-      if (v[i] != 0.0) {
+      if (std::abs(v[i]) > v_min) {
         const double k = -(r_now[i] - r_old[i]) / (lam[i] * v[i]);
         num += ui * k * ui;
       }
