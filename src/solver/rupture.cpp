@@ -746,11 +746,15 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
                  p.broken, p.point_stencils_off);
     return p.broken + p.point_stencils_off > 0;
   });
+  // ADR guard: far from equilibrium (relative residual above relaxation_break_residual) an
+  // iterate that inverts a stencil is rejected instead (docs/effects.md §2).
+  solver.set_relaxation_break_residual(opt_.relaxation_break_residual);
   struct Reset {
     StaticSolver& s;
     int reuse;
     ~Reset() {
       s.set_inadmissible_handler({});
+      s.set_relaxation_break_residual(INFINITY);
       s.set_factor_reuse(reuse);
     }
   } reset{solver, solver.factor_reuse()};
@@ -887,10 +891,11 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
         polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
     log::info(
         "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}; {} bonds broke "
-        "and {} point stencils went off when their stencils inverted); Newton polish: "
-        "{} ({} iterations, residual {:.3e}); {:.2f} s",
+        "and {} point stencils went off when their stencils inverted; {} steps rejected on "
+        "J ≤ 0 far from equilibrium); Newton polish: {} ({} iterations, residual {:.3e}); "
+        "{:.2f} s",
         relaxed ? "converged" : "FAILED", adr.iterations, adr.residual, during, during_points,
-        polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
+        adr.cutbacks, polished ? "converged" : (relaxed ? "FAILED" : "skipped"), polish.iterations,
         polish.residual_history.empty() ? NAN : polish.residual_history.back(),
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_adr).count());
     if (!polished)

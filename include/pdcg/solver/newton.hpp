@@ -205,6 +205,14 @@ class StaticSolver {
   /// Empty (default): J ≤ 0 fails the Newton solve / steps ADR back.
   using InadmissibleHandler = std::function<bool(const Eigen::VectorXd& u)>;
   void set_inadmissible_handler(InadmissibleHandler h) { inadmissible_ = std::move(h); }
+  /// ADR guard (docs/effects.md §2, "No breaking far from equilibrium"): an ADR iterate
+  /// with J ≤ 0 calls the handler only if the relative residual of the iterate before it
+  /// is at most break_residual; otherwise the step is rejected (back to that iterate,
+  /// restart from rest; fictitious masses 4× heavier if the step from rest inverts again).
+  /// +∞ (default): the handler on every J ≤ 0, as before.
+  void set_relaxation_break_residual(double break_residual) {
+    relax_break_residual_ = break_residual;
+  }
 
   /// Floor of the force scale of the relative residual (Newton, ADR, continuation):
   /// ‖R_f‖ ≤ tol · max(‖f‖, ‖f_ext‖, floor). 0 by default (purely relative). A body that
@@ -284,6 +292,7 @@ class StaticSolver {
   struct Solvers;
   std::shared_ptr<Solvers> solvers_;
   InadmissibleHandler inadmissible_;
+  double relax_break_residual_ = INFINITY;
   double force_floor_ = 0.0;
   mutable double peak_load_ = 0.0;  // force_balance: the largest load met so far
   int factor_reuse_ = 0;

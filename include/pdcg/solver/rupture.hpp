@@ -82,6 +82,12 @@ struct RuptureOptions {
   /// and turn tiny displacements into J ≤ 0 (measured on the pre-cracked sheet).
   double min_reciprocal_condition = 1e-3;
   int relaxation_iterations = 50000;
+  /// ADR guard (docs/effects.md §2, "No breaking far from equilibrium"): a stencil that an
+  /// ADR iterate inverts (J ≤ 0) breaks only if the relative residual of the iterate before
+  /// it is at most this; above it the step is rejected (StaticSolver::relax: back, restart
+  /// from rest, masses 4× heavier if that inverts again). +∞: every inversion breaks (the
+  /// scheme before).
+  double relaxation_break_residual = 1e-2;
   /// Quasi-static runs park points that no stencil couples any more with a spring (else
   /// K has zero rows); explicit dynamics does not: a detached point carries no force and
   /// moves on with its velocity (a fragment), so no anchors (false).
