@@ -380,6 +380,21 @@ TEST(ForceBalance, JitteredPointClouds) {
   }
 }
 
+// The grips of the two anchored-piece tests: the bottom row held in y, its right-end point in x,
+// the top row pulled to u_y = 0.11 t (h = Δx/2: the outermost point rows).
+std::vector<DisplacementSet> bottom_pin_top_grips(const Discretization& body, double h) {
+  std::vector<DisplacementSet> ds(3);
+  ds[0] = {"bottom", select(body, [&](const Vec3& x) { return x.y() < h + 1e-9; }), {}};
+  ds[0].component[1] = [](double) { return 0.0; };
+  ds[1] = {"pin",
+           select(body, [&](const Vec3& x) { return x.y() < h + 1e-9 && x.x() > 1 - h - 1e-9; }),
+           {}};
+  ds[1].component[0] = [](double) { return 0.0; };
+  ds[2] = {"top", select(body, [&](const Vec3& x) { return x.y() > 1 - h - 1e-9; }), {}};
+  ds[2].component[1] = [](double t) { return 0.11 * t; };
+  return ds;
+}
+
 // Detached points (docs/solver.md §3, "Anchored pieces"): every bond of two weak points of
 // the free left edge of the pre-cracked sheet is cut, so no stencil couples them and the
 // rupture commit parks them on anchor springs. Their weak-form pair terms are dropped: the
@@ -394,15 +409,7 @@ TEST(ForceBalance, DetachedPointsPullOnNothing) {
   const auto mat = make_neo_hookean({1.0, 100.0}, Kinematics::plane_stress);
   Model model(body, *mat);
   const double h = 0.5 * g.spacing;
-  std::vector<DisplacementSet> ds(3);
-  ds[0] = {"bottom", select(body, [&](const Vec3& x) { return x.y() < h + 1e-9; }), {}};
-  ds[0].component[1] = [](double) { return 0.0; };
-  ds[1] = {"pin",
-           select(body, [&](const Vec3& x) { return x.y() < h + 1e-9 && x.x() > 1 - h - 1e-9; }),
-           {}};
-  ds[1].component[0] = [](double) { return 0.0; };
-  ds[2] = {"top", select(body, [&](const Vec3& x) { return x.y() > 1 - h - 1e-9; }), {}};
-  ds[2].component[1] = [](double t) { return 0.11 * t; };
+  const auto ds = bottom_pin_top_grips(body, h);
   NewtonOptions no;
   no.steps = 1;
   no.tolerance = 1e-11;
@@ -447,15 +454,7 @@ TEST(ForceBalance, ChipOnASlidingGripIsPulledByNothing) {
   const auto mat = make_neo_hookean({1.0, 100.0}, Kinematics::plane_stress);
   Model model(body, *mat);
   const double h = 0.5 * g.spacing;
-  std::vector<DisplacementSet> ds(3);
-  ds[0] = {"bottom", select(body, [&](const Vec3& x) { return x.y() < h + 1e-9; }), {}};
-  ds[0].component[1] = [](double) { return 0.0; };
-  ds[1] = {"pin",
-           select(body, [&](const Vec3& x) { return x.y() < h + 1e-9 && x.x() > 1 - h - 1e-9; }),
-           {}};
-  ds[1].component[0] = [](double) { return 0.0; };
-  ds[2] = {"top", select(body, [&](const Vec3& x) { return x.y() > 1 - h - 1e-9; }), {}};
-  ds[2].component[1] = [](double t) { return 0.11 * t; };
+  const auto ds = bottom_pin_top_grips(body, h);
   NewtonOptions no;
   no.steps = 1;
   no.tolerance = 1e-11;
