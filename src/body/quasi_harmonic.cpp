@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -19,17 +20,47 @@ namespace pdcg::body {
 namespace {
 
 void check_body(const Body& body, double temperature) {
-  if (body.kind != BodyKind::delta || body.dimension != 3 || !body.box.periodic[0] ||
-      !body.box.periodic[1] || !body.box.periodic[2])
-    throw InputError("the quasi-harmonic free energy needs a periodic 3D delta body")
+  // Delta, rescaled and homogenised bodies: the free energy is that of the atomic layer (the
+  // crystal the model stands for; docs/theory.md (2.8)). A statistical body is an expectation
+  // over moving atoms already: a second, harmonic, average over the same motion is not defined.
+  if (body.statistics || body.dimension != 3 || !body.box.periodic[0] || !body.box.periodic[1] ||
+      !body.box.periodic[2])
+    throw InputError(
+        "the quasi-harmonic free energy needs a periodic 3D delta body (or a homogenised or "
+        "rescaled model of one)")
         .key("body")
-        .value(fmt::format("{} body, dimension {}, periodic {}{}{}", to_string(body.kind),
-                           body.dimension, body.box.periodic[0] ? "x" : "",
-                           body.box.periodic[1] ? "y" : "", body.box.periodic[2] ? "z" : ""))
-        .expected("a delta body of a crystal cell periodic along x, y and z")
+        .value(fmt::format(
+            "{} body{}, dimension {}, periodic {}{}{}", to_string(body.kind),
+            body.statistics && body.kind != BodyKind::statistical ? " of statistical atoms" : "",
+            body.dimension, body.box.periodic[0] ? "x" : "", body.box.periodic[1] ? "y" : "",
+            body.box.periodic[2] ? "z" : ""))
+        .expected(
+            "a delta body of a crystal cell periodic along x, y and z (a statistical body's "
+            "energy is already an average over the atoms' motion; the free energy replaces it)")
         .fix(
             "build it with pdcg atoms2pd --density delta from one relaxed frame of a periodic "
             "cell");
+  if (body.homogenisation) {
+    // The free energy of the atoms is the model's only if every atom counts once in its
+    // energy, w_k = Σ_p w_kp = 1 (the static W(F) is then the atoms' too)
+    std::vector<double> wk(body.size(), 0.0);
+    const auto& h = *body.homogenisation;
+    for (std::size_t q = 0; q < h.size(); ++q)
+      for (auto c = h.offset[q]; c < h.offset[q + 1]; ++c)
+        wk[static_cast<std::size_t>(h.atom[static_cast<std::size_t>(c)])] +=
+            h.weight[static_cast<std::size_t>(c)];
+    std::size_t worst = 0;
+    for (std::size_t k = 0; k < wk.size(); ++k)
+      if (std::abs(wk[k] - 1.0) > std::abs(wk[worst] - 1.0)) worst = k;
+    if (!wk.empty() && !(std::abs(wk[worst] - 1.0) <= 1e-9))  // partition of unity: round-off
+      throw InputError(
+          "quasi-harmonic free energy of a homogenised body: an atom does not count once in "
+          "the model's energy")
+          .key("body")
+          .value(fmt::format("atom {}: Σ_p w_kp = {:.12g}", worst, wk[worst]))
+          .expected("Σ_p w_kp = 1 for every atom (a periodic grid covering the cell)")
+          .fix("homogenise the periodic cell on a grid that covers it, or use its delta body");
+  }
   constexpr std::size_t kMaxAtoms = 3000;  // dense (3N)² Hessian: 648 MB at 3000 atoms
   if (body.size() > kMaxAtoms)
     throw InputError("body too large for the dense quasi-harmonic Hessian")
@@ -49,7 +80,17 @@ struct Vibrations {
   double sum_inverse_omega2 = 0.0;  ///< Σ_i 1/ω_i² (mass-weighted)
 };
 
-// Eigenvalues of the mass-weighted Hessian at y = F x (the body is checked by the caller).
+// The atoms a rescaled body stands for (docs/theory.md §4, (2.8)): by (4.6) its Hessian is
+// ε^(d−2) that of the atoms and its masses ε^d theirs, so every frequency of its points is
+// ω' = ω/ε, its energy and volume ε^d the atoms'. Returned in the atoms' terms (ε = 1 for
+// delta and homogenised bodies).
+struct AtomScale {
+  double eps = 1.0, eps_d = 1.0;
+  explicit AtomScale(const Body& b) : eps(b.epsilon), eps_d(std::pow(b.epsilon, b.dimension)) {}
+};
+
+// Eigenvalues of the mass-weighted Hessian at y = F x (the body is checked by the caller), in
+// the atoms' terms (AtomScale).
 Vibrations vibrations(const Body& body, const Eigen::Matrix3d& F) {
   const auto& fam = body.families;
   const auto& pot = *body.potential;
@@ -115,16 +156,29 @@ Vibrations vibrations(const Body& body, const Eigen::Matrix3d& F) {
     v.sum_ln_omega += 0.5 * std::log(w2[i]);
     v.sum_inverse_omega2 += 1.0 / w2[i];
   }
+  // the points' ω' = ω/ε → the atoms' ω = ε ω'; U' = ε^d U
+  const AtomScale a(body);
+  if (a.eps != 1.0) {
+    const double modes = static_cast<double>(w2.size() - 3);
+    v.U /= a.eps_d;
+    v.sum_ln_omega += modes * std::log(a.eps);
+    v.smallest_omega2 *= a.eps * a.eps;
+    v.sum_inverse_omega2 /= a.eps * a.eps;
+  }
   return v;
 }
 
 const Body& checked_material_body(const Body& body, double temperature, double step) {
   check_body(body, temperature);
-  if (!(step > 0.0 && step <= 0.01))
+  if (!(step >= kQuasiHarmonicStepMin && step <= kQuasiHarmonicStepMax))
     throw InputError("quasi-harmonic material: central-difference strain step out of range")
         .key("strain_step")
         .value(fmt::format("{}", step))
-        .expected("0 < h ≤ 0.01 (default 1e-4)");
+        .expected(fmt::format("{:g} ≤ h ≤ {:g} (default {:g})", kQuasiHarmonicStepMin,
+                              kQuasiHarmonicStepMax, kQuasiHarmonicStepDefault))
+        .fix(
+            "a step of 1e-4 for analytic potentials, ≈ 1e-2 for tabulated EAM "
+            "(docs/temperature.md §3.1)");
   const LatticeInfo lat = detect_lattice(body);
   if (lat.perfect && lat.basis > 1 && !lat.centrosymmetric)
     throw InputError(
@@ -142,11 +196,12 @@ const Body& checked_material_body(const Body& body, double temperature, double s
   // nearest-neighbour distance. Classical harmonic crystal: Σ_k m_k ⟨|u_k|²⟩ = k_B T Σ_i ω_i⁻²,
   // so ⟨|u|²⟩ ≈ k_B T Σ_i ω_i⁻² / (N m̄). A temperature in the wrong units lands far beyond.
   if (temperature > 0.0 && lat.nearest > 0.0) {
-    const Vibrations v = vibrations(body, Eigen::Matrix3d::Identity());
+    const Vibrations v = vibrations(body, Eigen::Matrix3d::Identity());  // the atoms'
+    const AtomScale a(body);
     double mass = 0.0;
-    for (double m : body.mass) mass += m;
+    for (double m : body.mass) mass += m / a.eps_d;
     const double kT = unit_constants(body.units).boltz * temperature;
-    const double lindemann = std::sqrt(kT * v.sum_inverse_omega2 / mass) / lat.nearest;
+    const double lindemann = std::sqrt(kT * v.sum_inverse_omega2 / mass) / (lat.nearest / a.eps);
     detail::require_below_melting(lindemann, temperature, body.units, "temperature",
                                   "harmonic rms displacement");
   }
@@ -168,6 +223,23 @@ Eigen::Matrix3d strain_basis(int I) {
 
 }  // namespace
 
+namespace {
+// The spline tables of a native EAM potential (nullptr for other potentials).
+const atomistic::EamView* eam_tables(const Body& body) {
+  for (const auto* pot : {body.potential.get(), body.base_potential.get()})
+    if (pot && pot->eam_view() && pot->eam_view()->rdr > 0.0) return pot->eam_view();
+  return nullptr;
+}
+}  // namespace
+
+double quasi_harmonic_knot_step(const Body& body) {
+  const atomistic::EamView* eam = eam_tables(body);
+  if (!eam) return 0.0;
+  const LatticeInfo lat = detect_lattice(body);
+  if (!(lat.nearest > 0.0)) return 0.0;
+  return 2.0 * body.epsilon / (eam->rdr * lat.nearest);  // r_nn of the atoms: nearest / ε
+}
+
 QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double temperature) {
   check_body(body, temperature);
   const double kT = unit_constants(body.units).boltz * temperature;
@@ -175,7 +247,7 @@ QuasiHarmonic quasi_harmonic(const Body& body, const Eigen::Matrix3d& F, double 
   QuasiHarmonic q;
   q.smallest_omega2 = v.smallest_omega2;
   q.sum_ln_omega = v.sum_ln_omega;
-  const double V0 = body.reference_volume();
+  const double V0 = body.reference_volume() / AtomScale(body).eps_d;  // the atoms' volume
   const double modes = static_cast<double>(3 * body.size() - 3);
   q.energy_density = v.U / V0;
   q.free_energy_density =
@@ -189,7 +261,8 @@ QuasiHarmonicCauchyBorn::QuasiHarmonicCauchyBorn(const Body& body, double temper
       cb_(body, IonRelaxation::clamped),
       temperature_(temperature),
       kT_(unit_constants(body.units).boltz * temperature),
-      step_(strain_step) {}
+      step_(strain_step),
+      knot_step_(quasi_harmonic_knot_step(body)) {}
 
 double QuasiHarmonicCauchyBorn::sum_ln_omega(const Eigen::Matrix3d& F) const {
   return vibrations(body_, F).sum_ln_omega;
@@ -198,7 +271,7 @@ double QuasiHarmonicCauchyBorn::sum_ln_omega(const Eigen::Matrix3d& F) const {
 CauchyBornState QuasiHarmonicCauchyBorn::evaluate(const Eigen::Matrix3d& F, bool tangent) const {
   CauchyBornState st = cb_.evaluate(F, tangent);  // static lattice: analytic W, P, A
   if (kT_ == 0.0) return st;
-  const double V0 = body_.reference_volume();
+  const double V0 = body_.reference_volume() / AtomScale(body_).eps_d;  // the atoms' volume
   const double c = kT_ / V0;
   const double modes = static_cast<double>(3 * body_.size() - 3);
   const Eigen::Matrix3d E0 = 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
@@ -232,18 +305,22 @@ CauchyBornState QuasiHarmonicCauchyBorn::evaluate(const Eigen::Matrix3d& F, bool
   if (!tangent) return st;
   // Tabulated EAM: LAMMPS's cubic splines are C¹, so the force-state tangents jump at the knots
   // (every dr of the table) and S′ jumps where a shell of bonds crosses one. Within one piece
-  // the fourth derivative of the potential is zero: a step below a few knots gives the local
-  // derivative of one piece, not the stiffness (docs/temperature.md §3.1, measured for Cu).
-  if (step_ < 5e-3 && body_.potential->style().rfind("eam", 0) == 0) {
+  // the fourth derivative of the potential is zero: a step that moves the bonds by less than a
+  // knot interval gives the local derivative of one piece, not the stiffness
+  // (docs/temperature.md §3.1, measured for Cu).
+  if (step_ < knot_step_) {
     static std::atomic<bool> said{false};
     if (!said.exchange(true))
       log::warn(
           "quasi-harmonic stiffness of a tabulated EAM potential with strain step {:g}: the "
-          "splines' second derivatives jump at the table's knots, and a step shorter than a few "
-          "knots gives the stiffness of one spline piece (for Cu_u3.eam at 600 K the thermal "
-          "C11 is −12 GPa with steps ≤ 1e-3 and −3 GPa with 1e-2); use a step of ≈ 1e-2 "
-          "(--quasi-harmonic-step) or secant slopes of the stress over ±1 % strain",
-          step_);
+          "splines' second derivatives jump at the table's knots (every {:g} in r), and a step "
+          "that moves the nearest-neighbour bonds by less than one knot interval gives the "
+          "stiffness of one spline piece (for Cu_u3.eam at 600 K the thermal C11 is −12 GPa "
+          "with steps ≤ 1e-3 and −3 GPa with 1e-2); use a step ≥ {:.2g}, e.g. {:g} "
+          "(pdcg elastic --quasi-harmonic-step, scene material.quasi_harmonic_step), or secant "
+          "slopes of the stress over ±1 % strain",
+          step_, 1.0 / eam_tables(body_)->rdr, knot_step_,
+          std::min(kQuasiHarmonicStepMax, std::max(knot_step_, 1e-2)));
   }
   // ∂²S/∂e_I∂e_J, then the tensor ∂²S/∂E_ab∂E_cd = that / (m_I m_J)
   Eigen::Matrix<double, 6, 6> d2;

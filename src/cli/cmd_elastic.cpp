@@ -27,8 +27,9 @@ struct Options {
   bool json = false, critical = false, clamped = false;
   double fit = 0.0;
   int fit_steps = 4;
-  std::optional<double> quasi_harmonic;  ///< temperature of the free energy W_T
-  double quasi_harmonic_step = 1e-4;     ///< central-difference step in E of its vibrational part
+  std::optional<double> quasi_harmonic;       ///< temperature of the free energy W_T
+  std::optional<double> quasi_harmonic_step;  ///< central-difference step in E of its vibrational
+                                              ///< part (default kQuasiHarmonicStepDefault)
 };
 
 std::string matrix_json(const Eigen::MatrixXd& m) {
@@ -71,7 +72,21 @@ int run(const Options& o) {
   const body::IonRelaxation ion =
       o.clamped || o.quasi_harmonic ? body::IonRelaxation::clamped : body::IonRelaxation::relaxed;
   std::optional<body::QuasiHarmonicCauchyBorn> qh;
-  if (o.quasi_harmonic) qh.emplace(b, *o.quasi_harmonic, o.quasi_harmonic_step);
+  if (o.quasi_harmonic_step && !o.quasi_harmonic)
+    throw InputError("--quasi-harmonic-step without --quasi-harmonic")
+        .source("--quasi-harmonic-step")
+        .fix("add --quasi-harmonic T, or drop --quasi-harmonic-step");
+  const double step = o.quasi_harmonic_step.value_or(body::kQuasiHarmonicStepDefault);
+  if (!(step >= body::kQuasiHarmonicStepMin && step <= body::kQuasiHarmonicStepMax))
+    throw InputError(
+        "the central-difference strain step of the quasi-harmonic tangent is out of "
+        "range")
+        .source("--quasi-harmonic-step")
+        .value(fmt::format("{}", step))
+        .expected(fmt::format("{:g} ≤ h ≤ {:g} (default {:g})", body::kQuasiHarmonicStepMin,
+                              body::kQuasiHarmonicStepMax, body::kQuasiHarmonicStepDefault))
+        .fix("1e-4 for analytic potentials, ≈ 1e-2 for tabulated EAM (docs/temperature.md §3.1)");
+  if (o.quasi_harmonic) qh.emplace(b, *o.quasi_harmonic, step);
   std::optional<body::CauchyBorn> static_cb;  // relaxed: InputError unless a perfect crystal
   if (!qh) static_cb.emplace(b, ion);
   const body::CauchyBorn& cb = qh ? qh->cauchy_born() : *static_cb;
@@ -124,8 +139,10 @@ int run(const Options& o) {
                     lat.perfect, lat.basis, lat.centrosymmetric, !note.text.empty(), lat.summary,
                     ion_name, st.iterations));
     if (o.quasi_harmonic)
-      out.append(fmt::format(", \"free_energy\": \"quasi-harmonic\", \"temperature\": {:.17g}",
-                             *o.quasi_harmonic));
+      out.append(
+          fmt::format(", \"free_energy\": \"quasi-harmonic\", \"temperature\": {:.17g}, "
+                      "\"quasi_harmonic_step\": {:.17g}",
+                      *o.quasi_harmonic, qh->strain_step()));
     if (!st.shift.empty()) {
       Eigen::MatrixXd sh(lat.basis, 3);
       for (int q = 0; q < lat.basis; ++q)
@@ -153,8 +170,8 @@ int run(const Options& o) {
   if (o.quasi_harmonic)
     std::printf(
         "free energy: quasi-harmonic at T = %g (W_T = W + k_B T Σ ln(ω/k_B T) / V₀ of the cell's "
-        "%zu vibrations; its vibrational part by central differences in E)\n",
-        *o.quasi_harmonic, 3 * b.size() - 3);
+        "%zu vibrations; its vibrational part by central differences in E, step %g)\n",
+        *o.quasi_harmonic, 3 * b.size() - 3, qh->strain_step());
   if (qh && lat.bravais())
     std::printf("ion relaxation: none needed (Bravais lattice; every atom at F x)\n");
   else if (cb.relaxing())
@@ -237,10 +254,12 @@ pdcg::cli::Registration reg(140, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option("--quasi-harmonic", o->quasi_harmonic,
                   "Isothermal constants of the classical quasi-harmonic free energy W_T(F) at "
                   "this temperature (kelvin; k_B T/ε in units lj): periodic 3D delta body of a "
-                  "crystal cell, ≤ 3000 atoms (docs/temperature.md)");
+                  "crystal cell or a homogenised or rescaled model of one (the atoms' free "
+                  "energy), ≤ 3000 atoms (docs/temperature.md)");
   sub->add_option("--quasi-harmonic-step", o->quasi_harmonic_step,
                   "Central-difference step in the Green–Lagrange strain of the vibrational part "
-                  "(default 1e-4; larger steps average over the knots of tabulated potentials)");
+                  "(1e-6 to 1e-2, default 1e-4; tabulated EAM needs ≈ 1e-2: a step spanning the "
+                  "tables' knots, docs/temperature.md §3.1)");
   sub->add_flag(
       "--critical", o->critical,
       "Critical stretches: bond inflection (pair potentials) and uniaxial peak stress along x");

@@ -10,11 +10,14 @@ namespace pdcg::scene {
 
 namespace {
 
-/// `temperature: T, free_energy: quasi-harmonic` of the Cauchy–Born material
-/// (docs/temperature.md §3.1): the isothermal material W_T(F) of the model file's crystal cell.
+/// `temperature: T, free_energy: quasi-harmonic [, quasi_harmonic_step: h]` of the Cauchy–Born
+/// material (docs/temperature.md §3.1): the isothermal material W_T(F) of the model file's
+/// crystal cell, its vibrational part differentiated with strain step h (pdcg elastic's
+/// --quasi-harmonic-step).
 struct FreeEnergyKeys {
   std::string free_energy = "none";
   double temperature = 0.0;
+  double step = body::kQuasiHarmonicStepDefault;
 };
 
 // `material: {model: cauchy-born, file: model.h5}` (docs/elastic.md §6): the model file is
@@ -127,12 +130,33 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
                  "the quasi-harmonic material is the body-level free energy of the crystal cell "
                  "with every atom at F x")
             .fix(fmt::format("remove material.{}", k));
+    if (m["quasi_harmonic_step"]) {
+      fe.step = c.number(m["quasi_harmonic_step"], "material.quasi_harmonic_step");
+      if (!(fe.step >= body::kQuasiHarmonicStepMin && fe.step <= body::kQuasiHarmonicStepMax))
+        throw c
+            .err(m["quasi_harmonic_step"], "material.quasi_harmonic_step",
+                 "the central-difference strain step of the quasi-harmonic tangent is out of "
+                 "range")
+            .value(m["quasi_harmonic_step"].Scalar())
+            .expected(fmt::format("{:g} ≤ h ≤ {:g} (default {:g})", body::kQuasiHarmonicStepMin,
+                                  body::kQuasiHarmonicStepMax, body::kQuasiHarmonicStepDefault))
+            .fix(
+                "quasi_harmonic_step: 1e-4 for analytic potentials, ≈ 1e-2 for tabulated EAM "
+                "(docs/temperature.md §3.1)");
+    }
     try {  // refused here, with the line: not a periodic 3D delta body, too many atoms, a basis
-      body::QuasiHarmonicCauchyBorn probe(*b, fe.temperature);
+      body::QuasiHarmonicCauchyBorn probe(*b, fe.temperature, fe.step);
       (void)probe;
     } catch (InputError& e) {
       throw e.line(m["free_energy"].Mark().line + 1).key("material.free_energy");
     }
+  } else if (m["quasi_harmonic_step"]) {
+    throw c
+        .err(m["quasi_harmonic_step"], "material.quasi_harmonic_step",
+             "a strain step of the quasi-harmonic free energy without the free energy")
+        .fix(
+            "add free_energy: quasi-harmonic and temperature: T, or remove "
+            "material.quasi_harmonic_step");
   }
   if (s.material_per_point) {
     if (!s.model_geometry)
@@ -200,7 +224,8 @@ class NeoHookeanModel final : public MaterialModel {
 class CauchyBornModel final : public MaterialModel {
  public:
   std::vector<std::string> keys() const override {
-    return {"density", "file", "per_point", "ion_relaxation", "free_energy", "temperature"};
+    return {"density",     "file",        "per_point",          "ion_relaxation",
+            "free_energy", "temperature", "quasi_harmonic_step"};
   }
   void parse(const Reader& r, const Node& m, Scene& s) override {
     load_cauchy_born(Ctx{r.file()}, m.yaml(), std::filesystem::path(r.file()), s, fe_);
@@ -208,7 +233,9 @@ class CauchyBornModel final : public MaterialModel {
   void resolve(Emitter& out, const Scene& s) const override {
     out.value("file", s.material_file.string());
     if (fe_.free_energy == "quasi-harmonic") {
-      out.value("free_energy", fe_.free_energy).value("temperature", fe_.temperature);
+      out.value("free_energy", fe_.free_energy)
+          .value("temperature", fe_.temperature)
+          .value("quasi_harmonic_step", fe_.step);
       return;
     }
     if (s.material_per_point) out.value("per_point", true);
@@ -216,7 +243,8 @@ class CauchyBornModel final : public MaterialModel {
   }
   std::unique_ptr<solver::Material> make(const Scene& s) const override {
     if (fe_.free_energy == "quasi-harmonic")
-      return body::QuasiHarmonicCauchyBornMaterial::from_file(s.material_file, fe_.temperature);
+      return body::QuasiHarmonicCauchyBornMaterial::from_file(s.material_file, fe_.temperature,
+                                                              fe_.step);
     if (s.material_per_point)
       return std::make_unique<body::PerPointCauchyBornMaterial>(
           std::make_shared<const body::Body>(body::read_body(s.material_file)),

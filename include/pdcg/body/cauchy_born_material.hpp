@@ -130,15 +130,18 @@ class CauchyBornMaterial final : public solver::Material {
 /// inadmissible state for the solver (false, one warning).
 class QuasiHarmonicCauchyBornMaterial final : public solver::Material {
  public:
+  /// `strain_step`: the central-difference step in E of the vibrational part (the scene's
+  /// `quasi_harmonic_step`; QuasiHarmonicCauchyBorn).
   QuasiHarmonicCauchyBornMaterial(std::shared_ptr<const Body> body, double temperature,
-                                  std::string source = {})
+                                  std::string source = {},
+                                  double strain_step = kQuasiHarmonicStepDefault)
       : body_(std::move(body)),
-        qh_(std::make_shared<QuasiHarmonicCauchyBorn>(*body_, temperature)),
+        qh_(std::make_shared<QuasiHarmonicCauchyBorn>(*body_, temperature, strain_step)),
         source_(std::move(source)) {}
-  static std::unique_ptr<QuasiHarmonicCauchyBornMaterial> from_file(const std::string& path,
-                                                                    double temperature) {
+  static std::unique_ptr<QuasiHarmonicCauchyBornMaterial> from_file(
+      const std::string& path, double temperature, double strain_step = kQuasiHarmonicStepDefault) {
     return std::make_unique<QuasiHarmonicCauchyBornMaterial>(
-        std::make_shared<const Body>(read_body(path)), temperature, path);
+        std::make_shared<const Body>(read_body(path)), temperature, path, strain_step);
   }
   int dimension() const override { return 3; }
   bool evaluate(const solver::Mat3& F, double* psi, solver::Mat3* P,

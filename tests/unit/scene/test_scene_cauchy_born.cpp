@@ -327,3 +327,97 @@ TEST(SceneCauchyBorn, QuasiHarmonicFreeEnergyKeys) {
   has(error_of(scene3d(", free_energy: quasi-harmonic, temperature: 0.1, ion_relaxation: clamped")),
       "remove material.ion_relaxation");
 }
+
+TEST(SceneCauchyBorn, QuasiHarmonicStepKey) {
+  // material: {…, free_energy: quasi-harmonic, temperature: 600, quasi_harmonic_step: 0.01} on
+  // Cu_u3.eam, 2×2×2 cubic cells (32 atoms, a = 3.615 Å): the tabulated EAM needs a step that
+  // spans the tables' knots (docs/temperature.md §3.1), so the scene key is what makes the
+  // solver's tangent that of `pdcg elastic --quasi-harmonic 600 --quasi-harmonic-step 1e-2`.
+  const auto path = atomistic::find_potential_file("Cu_u3.eam");
+  if (!path) GTEST_SKIP() << "Cu_u3.eam not found (LAMMPS potentials)";
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units metal\nmass 1 63.55\npair_style eam\npair_coeff 1 1 " + *path + "\n", "cu", 1);
+  const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  atomistic::Atoms at = test::cubic_lattice(2, 2, 2, 3.615, 4, 0.0, false, 0);
+  at.box.periodic = {true, true, true};
+  const body::Body b =
+      body::make_delta_body(at, pot, spec, {.dimension = 3, .cutoff = 0.0, .source = "cu"});
+  fs::create_directories(kDir);
+  body::write_body(b, kDir / "cu_qh.h5");
+  auto scene = [](const std::string& extra) {
+    return "units: metal\ndimension: 3\n"
+           "geometry: {shape: box, origin: [0, 0, 0], size: [6, 6, 6], spacing: 3.0}\n"
+           "material: {model: cauchy-born, file: cu_qh.h5, free_energy: quasi-harmonic,"
+           " temperature: 600" +
+           extra +
+           "}\n"
+           "boundary:\n  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0}}\n";
+  };
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  auto constants = [&](const scene::Scene& s) {
+    const auto mat = scene::make_material(s);
+    body::CauchyBornState st;
+    solver::Mat3 P;
+    solver::Tangent A;
+    EXPECT_TRUE(mat->evaluate(I, &st.W, &P, &A));
+    st.P = P;
+    st.A = A;
+    return body::voigt_elastic_constants(I, st);
+  };
+  const scene::Scene s =
+      scene::load_scene(write("qh_step.yaml", scene(", quasi_harmonic_step: 0.01")));
+  const body::Matrix6d C = constants(s);
+  // the resolved scene echoes the step (and the default where the key is absent)
+  EXPECT_NE(scene::resolved_yaml(s).find("quasi_harmonic_step: 0.01"), std::string::npos)
+      << scene::resolved_yaml(s);
+  const scene::Scene s0 = scene::load_scene(write("qh_default.yaml", scene("")));
+  EXPECT_NE(scene::resolved_yaml(s0).find("quasi_harmonic_step: 0.0001"), std::string::npos)
+      << scene::resolved_yaml(s0);
+  // the same code path as pdcg elastic --quasi-harmonic 600 --quasi-harmonic-step 1e-2
+  const body::Matrix6d Ccli =
+      body::voigt_elastic_constants(I, body::QuasiHarmonicCauchyBorn(b, 600.0, 1e-2).evaluate(I));
+  EXPECT_LE((C - Ccli).norm(), 1e-12 * Ccli.norm());
+  // thermal C11, C12, C44 against workflows/temperature/qha_elastic.py cu cu2.dump 600 1e-2
+  // (LAMMPS Hessians, the same cell written by LAMMPS `lattice fcc 3.615`), eV/Å³
+  const body::Matrix6d C0 = body::voigt_elastic_constants(I, body::CauchyBorn(b).evaluate(I));
+  const double thermal_ref[3] = {-0.02653542194, -0.01787318787, -0.01029649685};
+  const int idx[3][2] = {{0, 0}, {0, 1}, {3, 3}};
+  for (int q = 0; q < 3; ++q) {
+    const double thermal = C(idx[q][0], idx[q][1]) - C0(idx[q][0], idx[q][1]);
+    std::printf("Cu 600 K thermal C%s, step 1e-2: scene %.10f, LAMMPS Hessians %.10f eV/Å³\n",
+                q == 0   ? "11"
+                : q == 1 ? "12"
+                         : "44",
+                thermal, thermal_ref[q]);
+    // LAMMPS's Hessian is a central difference of forces (≈ 1e-10 relative), divided by
+    // h² = 1e-4 in the second difference: ≈ 1e-6 relative; 1e-5 leaves a factor 10
+    EXPECT_TRUE(test::close(thermal, thermal_ref[q], {0, 1e-5}));
+  }
+  // without the key (step 1e-4) the tangent is one spline piece's: thermal C11 several times
+  // larger (docs/temperature.md §3.1), so the key changes what the solver gets
+  const body::Matrix6d Cdef = constants(s0);
+  EXPECT_LT(Cdef(0, 0) - C0(0, 0), 2.0 * (C(0, 0) - C0(0, 0)));
+  // the step below which the difference stays inside one knot interval of the tables:
+  // 2 dr / r_nn, dr = 0.01 Å (Cu_u3.eam header), r_nn = 3.615/√2 Å
+  EXPECT_NEAR(body::quasi_harmonic_knot_step(b), 2 * 0.01 / (3.615 / std::sqrt(2.0)), 1e-12);
+  EXPECT_EQ(body::quasi_harmonic_knot_step(body::read_body(fcc_model())), 0.0);  // LJ: no knots
+  // bad values: the key, the value, the range and the fix
+  auto has = [](const std::string& msg, const std::string& what) {
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  };
+  for (const char* bad : {"0", "-0.001", "0.05", "1e-9", ".nan"}) {
+    const std::string m = error_of(scene(std::string(", quasi_harmonic_step: ") + bad));
+    has(m, "material.quasi_harmonic_step");
+    has(m, bad);
+    has(m, "1e-06 ≤ h ≤ 0.01");
+    has(m, "tabulated EAM");
+  }
+  has(error_of(scene(", quasi_harmonic_step: small")), "not a number");
+  const std::string orphan = error_of(
+      "units: metal\ndimension: 3\n"
+      "geometry: {shape: box, origin: [0, 0, 0], size: [6, 6, 6], spacing: 3.0}\n"
+      "material: {model: cauchy-born, file: cu_qh.h5, quasi_harmonic_step: 0.01}\n"
+      "boundary:\n  - {name: left, region: {x_max: 0.0}, displacement: {x: 0.0}}\n");
+  has(orphan, "material.quasi_harmonic_step");
+  has(orphan, "free_energy: quasi-harmonic");
+}
