@@ -94,7 +94,8 @@ pdcg::cli::Registration reg(115, [](CLI::App& app) -> pdcg::cli::Runner {
   sub->add_option(
       "--quasi-harmonic", o->quasi_harmonic,
       "Also the classical quasi-harmonic free energy density W_T(F) at this "
-      "temperature (periodic 3D delta bodies of up to 3000 atoms; hbar = 1: defined up "
+      "temperature (periodic 3D delta bodies of up to 3000 atoms, or homogenised or rescaled "
+      "models of one: the atoms' free energy; hbar = 1: defined up "
       "to an F-independent constant; docs/temperature.md); with --stress also its stress "
       "P_T = dW_T/dF (free_energy_stress)");
   sub->footer("Example:\n  pdcg energy body.h5 --F \"1.01 0 0 0 1 0 0 0 1\" --json");
