@@ -234,7 +234,12 @@ const atomistic::EamView* eam_tables(const Body& body) {
 
 double quasi_harmonic_knot_step(const Body& body) {
   const atomistic::EamView* eam = eam_tables(body);
-  if (!eam) return 0.0;
+  if (!eam) {
+    // an EAM style evaluated through LAMMPS (tables not visible here): the bound of Cu_u3.eam
+    const atomistic::Potential* pot =
+        body.base_potential ? body.base_potential.get() : body.potential.get();
+    return pot && pot->style().rfind("eam", 0) == 0 ? 5e-3 : 0.0;
+  }
   const LatticeInfo lat = detect_lattice(body);
   if (!(lat.nearest > 0.0)) return 0.0;
   return 2.0 * body.epsilon / (eam->rdr * lat.nearest);  // r_nn of the atoms: nearest / ε
@@ -313,14 +318,15 @@ CauchyBornState QuasiHarmonicCauchyBorn::evaluate(const Eigen::Matrix3d& F, bool
     if (!said.exchange(true))
       log::warn(
           "quasi-harmonic stiffness of a tabulated EAM potential with strain step {:g}: the "
-          "splines' second derivatives jump at the table's knots (every {:g} in r), and a step "
+          "splines' second derivatives jump at the table's knots (every {} in r), and a step "
           "that moves the nearest-neighbour bonds by less than one knot interval gives the "
           "stiffness of one spline piece (for Cu_u3.eam at 600 K the thermal C11 is −12 GPa "
           "with steps ≤ 1e-3 and −3 GPa with 1e-2); use a step ≥ {:.2g}, e.g. {:g} "
           "(pdcg elastic --quasi-harmonic-step, scene material.quasi_harmonic_step), or secant "
           "slopes of the stress over ±1 % strain",
-          step_, 1.0 / eam_tables(body_)->rdr, knot_step_,
-          std::min(kQuasiHarmonicStepMax, std::max(knot_step_, 1e-2)));
+          step_,
+          eam_tables(body_) ? fmt::format("{:g}", 1.0 / eam_tables(body_)->rdr) : std::string("dr"),
+          knot_step_, std::min(kQuasiHarmonicStepMax, std::max(knot_step_, 1e-2)));
   }
   // ∂²S/∂e_I∂e_J, then the tensor ∂²S/∂E_ab∂E_cd = that / (m_I m_J)
   Eigen::Matrix<double, 6, 6> d2;

@@ -59,8 +59,9 @@ inline constexpr double kQuasiHarmonicStepDefault = 1e-4;
 /// shear along the bond) and by h·r_nn/2 at 45° to a stretched axis (fcc under E_xx), so at
 /// this h every difference moves the nearest shell by at least one table interval. With a
 /// shorter step the tangent is the curvature of one C¹ spline piece (docs/temperature.md §3.1:
-/// Cu_u3.eam at 600 K, thermal C11 −12 GPa with h ≤ 1e-3, −3 GPa with 1e-2). 0 for analytic
-/// potentials (no knots) and for bodies without a nearest-neighbour distance.
+/// Cu_u3.eam at 600 K, thermal C11 −12 GPa with h ≤ 1e-3, −3 GPa with 1e-2). An EAM style
+/// evaluated through LAMMPS (tables not visible): 5e-3. 0 for analytic potentials (no knots)
+/// and for bodies without a nearest-neighbour distance.
 double quasi_harmonic_knot_step(const Body& body);
 
 /// The quasi-harmonic Cauchy–Born material at temperature T (header comment): W_T, P_T and
