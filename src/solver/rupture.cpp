@@ -13,6 +13,24 @@
 
 namespace pdcg::solver {
 
+namespace {
+
+/// F_S = I + Σ_{m∈S} u_m ⊗ G^m of stencil s (docs/theory.md §6, eq. 6.2; G^m = g_S^m V_m as
+/// stored in Stencils::grad), in the first d rows and columns; members in stencil order.
+Mat3 stencil_deformation_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u,
+                                  int d) {
+  Mat3 F = Mat3::Identity();
+  for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+    const int m = S.index[r];
+    const double* g = S.grad.data() + r * d;
+    for (int a = 0; a < d; ++a)
+      for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
+  }
+  return F;
+}
+
+}  // namespace
+
 RuptureCriterion parse_rupture_criterion(const std::string& name) {
   if (name == "bond_stretch") return RuptureCriterion::bond_stretch;
   if (name == "principal_stretch") return RuptureCriterion::principal_stretch;
@@ -216,13 +234,7 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
         for (int a = 0; a < d; ++a) y(a) += u[d * j + a] - u[d * i + a];
         dir[q] = y.norm() / (x[j] - x[i]).norm();
       } else {
-        Mat3 F = Mat3::Identity();
-        for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
-          const int m = S.index[r];
-          const double* g = S.grad.data() + r * d;
-          for (int a = 0; a < d; ++a)
-            for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-        }
+        const Mat3 F = stencil_deformation_gradient(S, q, u, d);
         if (softening()) {
           // the undamaged energy of the direction (the pair's Y follows below)
           double psi = 0;
@@ -420,13 +432,7 @@ double Rupture::stored_energy(const Eigen::VectorXd& u) const {
 #pragma omp parallel for schedule(static) reduction(+ : e) reduction(&& : ok)
   for (std::size_t s = 0; s < S.size(); ++s) {
     if (!(S.weight[s] > 0)) continue;
-    Mat3 F = Mat3::Identity();
-    for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
-      const int m = S.index[r];
-      const double* g = S.grad.data() + r * d;
-      for (int a = 0; a < d; ++a)
-        for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-    }
+    const Mat3 F = stencil_deformation_gradient(S, s, u, d);
     double psi = 0;
     if (!mat.evaluate_at(S.center[s], F, &psi, nullptr, nullptr)) ok = false;
     e += S.weight[s] * (psi - psi_ref_[S.center[s]]);
@@ -523,13 +529,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
     const std::size_t i = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
     for (auto q = fam.begin(i); q < fam.end(i); ++q) {
       if (B.broken(q) || !(S.weight[q] > 0)) continue;
-      Mat3 F = Mat3::Identity();
-      for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
-        const int m = S.index[r];
-        const double* g = S.grad.data() + r * d;
-        for (int a = 0; a < d; ++a)
-          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-      }
+      const Mat3 F = stencil_deformation_gradient(S, q, u, d);
       Mat3 P;
       if (!mat.evaluate_at(static_cast<int>(i), F, nullptr, &P, nullptr)) bad[q] = 1;
     }
@@ -549,13 +549,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
     for (std::size_t ci = 0; ci < nc; ++ci) {
       const std::size_t k = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
       if (e[k].isZero() || B.point_stencil_suppressed(static_cast<int>(k))) continue;
-      Mat3 F = Mat3::Identity();
-      for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
-        const int m = Pst.index[r];
-        const double* g = Pst.grad.data() + r * d;
-        for (int a = 0; a < d; ++a)
-          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-      }
+      const Mat3 F = stencil_deformation_gradient(Pst, k, u, d);
       Mat3 P;
       if (!mat.evaluate_at(static_cast<int>(k), F, nullptr, &P, nullptr) &&
           body_->suppress_point_stencil(static_cast<int>(k)) && points_off)
