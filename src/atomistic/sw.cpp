@@ -348,24 +348,28 @@ class StillingerWeber final : public Potential {
           }
         }
       }
-    if (worst2 > 0.0) symmetric2_ = false;
-    if (worst2 > 0.0)
+    // "file:line: <what> of '<entry>' and '<mirror>' differ (relative r): <how LAMMPS and
+    // pdcg treat them>, so energies differ …", at the line of the entry
+    auto warn_differ = [&t](const char* what, const int(&e)[3], const int(&m)[3], double r,
+                            const char* treatment) {
       log::warn(
-          "{}:{}: two-body parameters of '{}' and '{}' differ (relative {:.2g}): LAMMPS "
-          "evaluates φ2 of such a pair with one of them, picked by atom-id parity; pdcg "
-          "gives each atom half of φ2 with its own entry (the mean), so energies differ "
+          "{}:{}: {} of '{}' and '{}' differ (relative {:.2g}): {}, so energies differ "
           "from LAMMPS by up to that relative amount",
-          t.file, t.line[t.index(w2[0], w2[1], w2[2])], t.triple_name(w2[0], w2[1], w2[2]),
-          t.triple_name(w2[1], w2[0], w2[0]), worst2);
+          t.file, t.line[t.index(e[0], e[1], e[2])], what, t.triple_name(e[0], e[1], e[2]),
+          t.triple_name(m[0], m[1], m[2]), r, treatment);
+    };
+    if (worst2 > 0.0) {
+      symmetric2_ = false;
+      warn_differ("two-body parameters", w2, {w2[1], w2[0], w2[0]}, worst2,
+                  "LAMMPS evaluates φ2 of such a pair with one of them, picked by atom-id "
+                  "parity; pdcg gives each atom half of φ2 with its own entry (the mean)");
+    }
     if (worst3 > 0.0) {
       symmetric3_ = false;
-      log::warn(
-          "{}:{}: three-body parameters (lambda·epsilon, costheta0) of '{}' and '{}' "
-          "differ (relative {:.2g}): LAMMPS's φ3 of such a triplet depends on the order of "
-          "its neighbour list; pdcg uses the mean of φ3 over both orders, so energies "
-          "differ from LAMMPS by up to that relative amount",
-          t.file, t.line[t.index(w3[0], w3[1], w3[2])], t.triple_name(w3[0], w3[1], w3[2]),
-          t.triple_name(w3[0], w3[2], w3[1]), worst3);
+      warn_differ("three-body parameters (lambda·epsilon, costheta0)", w3, {w3[0], w3[2], w3[1]},
+                  worst3,
+                  "LAMMPS's φ3 of such a triplet depends on the order of its neighbour list; "
+                  "pdcg uses the mean of φ3 over both orders");
     }
   }
 
