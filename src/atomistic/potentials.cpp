@@ -761,23 +761,10 @@ class PairModel final : public Potential {
 class EamModel final : public Potential {
  public:
   EamModel(const PotentialSpec& spec, EamTables tables, BondTable bonds)
-      : style_(style_name(spec)), e_(std::move(tables)), bonds_(std::move(bonds)) {
-    view_.ntypes = e_.ntypes;
-    view_.nr = e_.nr;
-    view_.nrho = e_.nrho;
-    view_.rdr = e_.rdr;
-    view_.rdrho = e_.rdrho;
-    view_.rhomax = e_.rhomax;
-    view_.cutforcesq = e_.cutforcesq;
-    auto table = [](const std::vector<std::vector<double>>& sp, int w) -> const double* {
-      return w >= 0 && static_cast<std::size_t>(w) < sp.size()
-                 ? sp[static_cast<std::size_t>(w)].data()
-                 : nullptr;
-    };
-    for (int w : e_.type2rhor) view_.rhor.push_back(table(e_.rhor_spline, w));
-    for (int w : e_.type2z2r) view_.z2r.push_back(table(e_.z2r_spline, w));
-    for (int w : e_.type2frho) view_.frho.push_back(table(e_.frho_spline, w));
-  }
+      : style_(style_name(spec)),
+        e_(std::move(tables)),
+        bonds_(std::move(bonds)),
+        view_(make_eam_view(e_)) {}
   const EamView* eam_view() const override { return bonds_.active() ? nullptr : &view_; }
   std::string style() const override { return style_; }
   double cutoff() const override { return e_.cutmax; }
