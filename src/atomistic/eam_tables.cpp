@@ -515,4 +515,25 @@ EamTables build_eam_tables(const PotentialSpec& spec) {
   return t;
 }
 
+EamView make_eam_view(const EamTables& t) {
+  auto pick = [](const std::vector<std::vector<double>>& splines, const std::vector<int>& which) {
+    std::vector<const double*> out;
+    for (int w : which)
+      out.push_back(w >= 0 && static_cast<std::size_t>(w) < splines.size()
+                        ? splines[static_cast<std::size_t>(w)].data()
+                        : nullptr);
+    return out;
+  };
+  return {.ntypes = t.ntypes,
+          .nr = t.nr,
+          .nrho = t.nrho,
+          .rdr = t.rdr,
+          .rdrho = t.rdrho,
+          .rhomax = t.rhomax,
+          .cutforcesq = t.cutforcesq,
+          .rhor = pick(t.rhor_spline, t.type2rhor),
+          .z2r = pick(t.z2r_spline, t.type2z2r),
+          .frho = pick(t.frho_spline, t.type2frho)};
+}
+
 }  // namespace pdcg::atomistic

@@ -22,6 +22,11 @@ struct EamTables {
 /// builds the tables. Throws InputError with file and line on malformed files.
 EamTables build_eam_tables(const PotentialSpec& spec);
 
+/// The read-only view of `tables` for dedicated kernels (Potential::eam_view): its grid
+/// constants, and per type (pair) the spline that type2rhor/type2z2r/type2frho pick (nullptr
+/// where none). The pointers point into `tables`, valid while it lives and is not moved.
+EamView make_eam_view(const EamTables& tables);
+
 /// PairEAM::interpolate: f[1..n] → 7 coefficients per point.
 void eam_interpolate(int n, double delta, const std::vector<double>& f,
                      std::vector<double>& spline);

@@ -25,13 +25,10 @@ namespace pdcg::atomistic {
 
 #if !PDCG_WITH_LAMMPS
 std::unique_ptr<Potential> make_lammps_potential(const PotentialSpec& spec) {
-  throw InputError("pair style has no native implementation and embedded LAMMPS is off")
+  require_supported_styles(spec, false);  // names the line of a style that is not native
+  throw InputError("this build has no embedded LAMMPS for the fallback potential")
       .source(spec.source)
-      .line(spec.pair_style_line)
-      .key("pair_style")
-      .value(spec.pair_style)
-      .expected("a native style (" + native_pair_style_names() + ")")
-      .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON");
+      .fix("rebuild pdcg with -DPDCG_ENABLE_LAMMPS=ON (liblammps), or use make_potential");
 }
 #else
 namespace {

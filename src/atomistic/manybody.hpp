@@ -49,4 +49,29 @@ struct FamilyOutput {
   }
 };
 
+/// The near list of a family: the bonds b, in order, that a style's filter keeps, each with a
+/// value the filter computes from |Y_b|² (|Y_b|² itself, or a shifted length r̃ = |Y_b| + δ).
+template <std::int64_t kMax>
+struct NearBonds {
+  std::int64_t bond[kMax];
+  double value[kMax];
+  std::int64_t size = 0;
+  /// Fills the list from family f: bond b is kept when keep(|Y_b|², v) is true, with value v.
+  /// False when more than kMax bonds are kept (the caller returns FamilyOutput::poison()).
+  template <class Keep>
+  bool collect(const FamilyState& f, Keep&& keep) {
+    size = 0;
+    for (std::int64_t b = 0; b < f.size; ++b) {
+      const double* y = f.bond + 3 * b;
+      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      double v;
+      if (!keep(rsq, v)) continue;
+      if (size == kMax) return false;
+      bond[size] = b;
+      value[size++] = v;
+    }
+    return true;
+  }
+};
+
 }  // namespace pdcg::atomistic::detail

@@ -201,6 +201,16 @@ void require_all_set(const PotentialSpec& spec, const TypeTable<C>& table, std::
           .fix("add 'pair_coeff " + std::to_string(t) + " " + std::to_string(t) + " …'");
 }
 
+/// Pair::init: init_one(i, j) for every type pair i ≤ j, which sets the coefficients of (i, j)
+/// and (j, i) and returns their cutoff; the largest is the style's cutoff (LAMMPS's cutforce).
+template <class InitOne>
+double init_pairs(int ntypes, InitOne&& init_one) {
+  double cutmax = 0.0;
+  for (int i = 1; i <= ntypes; ++i)
+    for (int j = i; j <= ntypes; ++j) cutmax = std::max(cutmax, init_one(i, j));
+  return cutmax;
+}
+
 TypeTable<LJCut::Coeff> build_lj(const PotentialSpec& spec, double& cutmax) {
   const int n = spec.ntypes;
   const double cut_global = global_cutoff(spec, "lj/cut");
@@ -219,30 +229,28 @@ TypeTable<LJCut::Coeff> build_lj(const PotentialSpec& spec, double& cutmax) {
   }
   require_all_set(spec, eps, "lj/cut");
   TypeTable<LJCut::Coeff> out(n);
-  cutmax = 0.0;
-  for (int i = 1; i <= n; ++i)
-    for (int j = i; j <= n; ++j) {
-      // PairLJCut::init_one
-      if (!eps.is_set(i, j)) {
-        eps(i, j) = mix_energy(mod.mix, eps(i, i), eps(j, j), sig(i, i), sig(j, j));
-        sig(i, j) = mix_distance(mod.mix, sig(i, i), sig(j, j));
-        cut(i, j) = mix_distance(mod.mix, cut(i, i), cut(j, j));
-      }
-      LJCut::Coeff c;
-      c.lj1 = 48.0 * eps(i, j) * std::pow(sig(i, j), 12.0);
-      c.lj2 = 24.0 * eps(i, j) * std::pow(sig(i, j), 6.0);
-      c.lj3 = 4.0 * eps(i, j) * std::pow(sig(i, j), 12.0);
-      c.lj4 = 4.0 * eps(i, j) * std::pow(sig(i, j), 6.0);
-      if (mod.shift && (cut(i, j) > 0.0)) {
-        const double ratio = sig(i, j) / cut(i, j);
-        c.offset = 4.0 * eps(i, j) * (std::pow(ratio, 12.0) - std::pow(ratio, 6.0));
-      } else {
-        c.offset = 0.0;
-      }
-      c.cutsq = cut(i, j) * cut(i, j);
-      out(i, j) = out(j, i) = c;
-      cutmax = std::max(cutmax, cut(i, j));
+  cutmax = init_pairs(n, [&](int i, int j) {
+    // PairLJCut::init_one
+    if (!eps.is_set(i, j)) {
+      eps(i, j) = mix_energy(mod.mix, eps(i, i), eps(j, j), sig(i, i), sig(j, j));
+      sig(i, j) = mix_distance(mod.mix, sig(i, i), sig(j, j));
+      cut(i, j) = mix_distance(mod.mix, cut(i, i), cut(j, j));
     }
+    LJCut::Coeff c;
+    c.lj1 = 48.0 * eps(i, j) * std::pow(sig(i, j), 12.0);
+    c.lj2 = 24.0 * eps(i, j) * std::pow(sig(i, j), 6.0);
+    c.lj3 = 4.0 * eps(i, j) * std::pow(sig(i, j), 12.0);
+    c.lj4 = 4.0 * eps(i, j) * std::pow(sig(i, j), 6.0);
+    if (mod.shift && (cut(i, j) > 0.0)) {
+      const double ratio = sig(i, j) / cut(i, j);
+      c.offset = 4.0 * eps(i, j) * (std::pow(ratio, 12.0) - std::pow(ratio, 6.0));
+    } else {
+      c.offset = 0.0;
+    }
+    c.cutsq = cut(i, j) * cut(i, j);
+    out(i, j) = out(j, i) = c;
+    return cut(i, j);
+  });
   return out;
 }
 
@@ -264,29 +272,27 @@ TypeTable<Morse::Coeff> build_morse(const PotentialSpec& spec, double& cutmax) {
       out.is_set(i, j) = 1;
     });
   }
-  cutmax = 0.0;
-  for (int i = 1; i <= n; ++i)
-    for (int j = i; j <= n; ++j) {
-      // PairMorse::init_one: no mixing
-      if (!out.is_set(i, j))
-        throw InputError("morse coefficients missing for a type pair (LAMMPS does not mix morse)")
-            .source(spec.source)
-            .key("pair_coeff")
-            .value(std::to_string(i) + " " + std::to_string(j))
-            .expected("a pair_coeff line for every type pair I <= J");
-      Morse::Coeff m = out(i, j);
-      const double rc = m.cutsq;
-      m.morse1 = 2.0 * m.d0 * m.alpha;
-      if (mod.shift) {
-        const double alpha_dr = -m.alpha * (rc - m.r0);
-        m.offset = m.d0 * (std::exp(2.0 * alpha_dr) - 2.0 * std::exp(alpha_dr));
-      } else {
-        m.offset = 0.0;
-      }
-      m.cutsq = rc * rc;
-      out(i, j) = out(j, i) = m;
-      cutmax = std::max(cutmax, rc);
+  cutmax = init_pairs(n, [&](int i, int j) {
+    // PairMorse::init_one: no mixing
+    if (!out.is_set(i, j))
+      throw InputError("morse coefficients missing for a type pair (LAMMPS does not mix morse)")
+          .source(spec.source)
+          .key("pair_coeff")
+          .value(std::to_string(i) + " " + std::to_string(j))
+          .expected("a pair_coeff line for every type pair I <= J");
+    Morse::Coeff m = out(i, j);
+    const double rc = m.cutsq;
+    m.morse1 = 2.0 * m.d0 * m.alpha;
+    if (mod.shift) {
+      const double alpha_dr = -m.alpha * (rc - m.r0);
+      m.offset = m.d0 * (std::exp(2.0 * alpha_dr) - 2.0 * std::exp(alpha_dr));
+    } else {
+      m.offset = 0.0;
     }
+    m.cutsq = rc * rc;
+    out(i, j) = out(j, i) = m;
+    return rc;
+  });
   return out;
 }
 
@@ -304,13 +310,11 @@ TypeTable<Zero::Coeff> build_zero(const PotentialSpec& spec, double& cutmax) {
   }
   require_all_set(spec, cut, "zero");
   TypeTable<Zero::Coeff> out(n);
-  cutmax = 0.0;
-  for (int i = 1; i <= n; ++i)
-    for (int j = i; j <= n; ++j) {
-      if (!cut.is_set(i, j)) cut(i, j) = mix_distance(pair_modify(spec).mix, cut(i, i), cut(j, j));
-      out(i, j).cutsq = out(j, i).cutsq = cut(i, j) * cut(i, j);
-      cutmax = std::max(cutmax, cut(i, j));
-    }
+  cutmax = init_pairs(n, [&](int i, int j) {
+    if (!cut.is_set(i, j)) cut(i, j) = mix_distance(pair_modify(spec).mix, cut(i, i), cut(j, j));
+    out(i, j).cutsq = out(j, i).cutsq = cut(i, j) * cut(i, j);
+    return cut(i, j);
+  });
   return out;
 }
 
@@ -757,23 +761,10 @@ class PairModel final : public Potential {
 class EamModel final : public Potential {
  public:
   EamModel(const PotentialSpec& spec, EamTables tables, BondTable bonds)
-      : style_(style_name(spec)), e_(std::move(tables)), bonds_(std::move(bonds)) {
-    view_.ntypes = e_.ntypes;
-    view_.nr = e_.nr;
-    view_.nrho = e_.nrho;
-    view_.rdr = e_.rdr;
-    view_.rdrho = e_.rdrho;
-    view_.rhomax = e_.rhomax;
-    view_.cutforcesq = e_.cutforcesq;
-    auto table = [](const std::vector<std::vector<double>>& sp, int w) -> const double* {
-      return w >= 0 && static_cast<std::size_t>(w) < sp.size()
-                 ? sp[static_cast<std::size_t>(w)].data()
-                 : nullptr;
-    };
-    for (int w : e_.type2rhor) view_.rhor.push_back(table(e_.rhor_spline, w));
-    for (int w : e_.type2z2r) view_.z2r.push_back(table(e_.z2r_spline, w));
-    for (int w : e_.type2frho) view_.frho.push_back(table(e_.frho_spline, w));
-  }
+      : style_(style_name(spec)),
+        e_(std::move(tables)),
+        bonds_(std::move(bonds)),
+        view_(make_eam_view(e_)) {}
   const EamView* eam_view() const override { return bonds_.active() ? nullptr : &view_; }
   std::string style() const override { return style_; }
   double cutoff() const override { return e_.cutmax; }

@@ -348,24 +348,28 @@ class StillingerWeber final : public Potential {
           }
         }
       }
-    if (worst2 > 0.0) symmetric2_ = false;
-    if (worst2 > 0.0)
+    // "file:line: <what> of '<entry>' and '<mirror>' differ (relative r): <how LAMMPS and
+    // pdcg treat them>, so energies differ …", at the line of the entry
+    auto warn_differ = [&t](const char* what, const int(&e)[3], const int(&m)[3], double r,
+                            const char* treatment) {
       log::warn(
-          "{}:{}: two-body parameters of '{}' and '{}' differ (relative {:.2g}): LAMMPS "
-          "evaluates φ2 of such a pair with one of them, picked by atom-id parity; pdcg "
-          "gives each atom half of φ2 with its own entry (the mean), so energies differ "
+          "{}:{}: {} of '{}' and '{}' differ (relative {:.2g}): {}, so energies differ "
           "from LAMMPS by up to that relative amount",
-          t.file, t.line[t.index(w2[0], w2[1], w2[2])], t.triple_name(w2[0], w2[1], w2[2]),
-          t.triple_name(w2[1], w2[0], w2[0]), worst2);
+          t.file, t.line[t.index(e[0], e[1], e[2])], what, t.triple_name(e[0], e[1], e[2]),
+          t.triple_name(m[0], m[1], m[2]), r, treatment);
+    };
+    if (worst2 > 0.0) {
+      symmetric2_ = false;
+      warn_differ("two-body parameters", w2, {w2[1], w2[0], w2[0]}, worst2,
+                  "LAMMPS evaluates φ2 of such a pair with one of them, picked by atom-id "
+                  "parity; pdcg gives each atom half of φ2 with its own entry (the mean)");
+    }
     if (worst3 > 0.0) {
       symmetric3_ = false;
-      log::warn(
-          "{}:{}: three-body parameters (lambda·epsilon, costheta0) of '{}' and '{}' "
-          "differ (relative {:.2g}): LAMMPS's φ3 of such a triplet depends on the order of "
-          "its neighbour list; pdcg uses the mean of φ3 over both orders, so energies "
-          "differ from LAMMPS by up to that relative amount",
-          t.file, t.line[t.index(w3[0], w3[1], w3[2])], t.triple_name(w3[0], w3[1], w3[2]),
-          t.triple_name(w3[0], w3[2], w3[1]), worst3);
+      warn_differ("three-body parameters (lambda·epsilon, costheta0)", w3, {w3[0], w3[2], w3[1]},
+                  worst3,
+                  "LAMMPS's φ3 of such a triplet depends on the order of its neighbour list; "
+                  "pdcg uses the mean of φ3 over both orders");
     }
   }
 
@@ -401,24 +405,16 @@ class StillingerWeber final : public Potential {
   /// ψ_k and t (kTangent: t is scratch and K is filled).
   template <bool kTangent>
   double evaluate(const FamilyState& f, double* t, double* K) const {
+    const FamilyOutput<kTangent> out{t, K, f.size};
+    NearBonds<kMaxNear> near;  // bonds within the largest cutoff; |Y|² kept
+    if (!out.start(f, ntypes_) || !near.collect(f, [&](double rsq, double& v) {
+          v = rsq;
+          return rsq < cutmaxsq_;
+        }))
+      return out.poison();
     const std::int64_t n = f.size;
-    const FamilyOutput<kTangent> out{t, K, n};
-    if (!out.start(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
-    // bonds within the largest cutoff
-    std::int64_t near[kMaxNear];
-    double near_rsq[kMaxNear];
-    std::int64_t nn = 0;
-    for (std::int64_t b = 0; b < n; ++b) {
-      const double* y = Y + 3 * b;
-      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-      if (rsq < cutmaxsq_) {
-        if (nn == kMaxNear) return out.poison();
-        near[nn] = b;
-        near_rsq[nn++] = rsq;
-      }
-    }
     // short list of k (PairSW::compute: rsq < cutsq of the entry (k, j, j))
     std::int64_t shrt[kMaxNear];
     double shrt_r[kMaxNear];
@@ -428,16 +424,16 @@ class StillingerWeber final : public Potential {
     Partials2 d2;
     double gu[3], gv[3], huu[9], huv[9], hvv[9];
     constexpr double third = 1.0 / 3.0;
-    for (std::int64_t q = 0; q < nn; ++q) {
-      const std::int64_t b = near[q];
+    for (std::int64_t q = 0; q < near.size; ++q) {
+      const std::int64_t b = near.bond[q];
       const Param& p = P(tk, f.neighbor_type[b], f.neighbor_type[b]);
-      if (near_rsq[q] >= p.cutsq) continue;
+      if (near.value[q] >= p.cutsq) continue;
       double fforce, eng;
-      twobody(p, near_rsq[q], fforce, eng);
+      twobody(p, near.value[q], fforce, eng);
       psi += 0.5 * eng;
       const double* y = Y + 3 * b;
       for (int a = 0; a < 3; ++a) t[3 * b + a] += -0.5 * fforce * y[a];
-      const double r = std::sqrt(near_rsq[q]);
+      const double r = std::sqrt(near.value[q]);
       if constexpr (kTangent)
         scatter_radial(K, n, {b, 1.0}, y, r, -fforce * r, twobody_d2(p, r), 0.5);
       shrt[ns] = b;
@@ -468,14 +464,14 @@ class StillingerWeber final : public Potential {
     }
     // triplets centred at a neighbour i with k as one end: ⅓ φ3(i; k, l), u = Y_ik = −Y_ki,
     // w = Y_il = Y_kl − Y_ki
-    for (std::int64_t q = 0; q < nn; ++q) {
-      const std::int64_t i = near[q];
+    for (std::int64_t q = 0; q < near.size; ++q) {
+      const std::int64_t i = near.bond[q];
       const int ti = f.neighbor_type[i];
       const Param& pik = P(ti, tk, tk);
-      if (near_rsq[q] >= pik.cutsq) continue;  // k is not in i's short list
+      if (near.value[q] >= pik.cutsq) continue;  // k is not in i's short list
       const double* yi = Y + 3 * i;
       const double u[3] = {-yi[0], -yi[1], -yi[2]};
-      const double ru = std::sqrt(near_rsq[q]);
+      const double ru = std::sqrt(near.value[q]);
       for (std::int64_t l = 0; l < n; ++l) {
         if (l == i) continue;
         const double* yl = Y + 3 * l;

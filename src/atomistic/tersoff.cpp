@@ -519,34 +519,25 @@ class Tersoff final : public Potential {
 
   template <bool kTangent>
   double evaluate(const FamilyState& f, double* t, double* K, double* work) const {
+    const FamilyOutput<kTangent> out{t, K, f.size};
+    NearBonds<kMaxNear> near;  // bonds with r̃ = r + δ below the largest cutoff; r̃ kept
+    if (!out.start(f, ntypes_) || !near.collect(f, [&](double rsq, double& r) {
+          if (rsq >= reachsq_) return false;
+          r = std::sqrt(rsq) + shift_;
+          return r * r < cutmaxsq_;
+        }))
+      return out.poison();
     const std::int64_t n = f.size;
-    const FamilyOutput<kTangent> out{t, K, n};
-    if (!out.start(f, ntypes_)) return out.poison();
     const int tk = f.type;
     const double* Y = f.bond;
-    // bonds with r̃ = r + δ below the largest cutoff; r̃ kept
-    std::int64_t near[kMaxNear];
-    double near_r[kMaxNear];
-    std::int64_t nn = 0;
-    for (std::int64_t b = 0; b < n; ++b) {
-      const double* y = Y + 3 * b;
-      const double rsq = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-      if (rsq >= reachsq_) continue;
-      const double r = std::sqrt(rsq) + shift_;
-      if (r * r < cutmaxsq_) {
-        if (nn == kMaxNear) return out.poison();
-        near[nn] = b;
-        near_r[nn++] = r;
-      }
-    }
     double psi = 0.0;
     std::int64_t list[kMaxNear];
     // terms centred at k: ½ V_R(r̃_kj) + ¼ b_kj f_A(r̃_kj)
-    for (std::int64_t q = 0; q < nn; ++q) {
-      const std::int64_t j = near[q];
+    for (std::int64_t q = 0; q < near.size; ++q) {
+      const std::int64_t j = near.bond[q];
       const int tj = f.neighbor_type[j];
       const Param& pj = P(tk, tj, tj);
-      const double rt = near_r[q];
+      const double rt = near.value[q];
       if (rt * rt >= pj.cutsq) continue;
       const double* yj = Y + 3 * j;
       const double rlen = rt - shift_;
@@ -555,10 +546,10 @@ class Tersoff final : public Potential {
       for (int a = 0; a < 3; ++a) t[3 * j + a] += 0.5 * v1 * yj[a] / rlen;
       if constexpr (kTangent) scatter_radial(K, n, {j, 1.0}, yj, rlen, v1, v2, 0.5);
       std::int64_t nl = 0;
-      for (std::int64_t q2 = 0; q2 < nn; ++q2) {
+      for (std::int64_t q2 = 0; q2 < near.size; ++q2) {
         if (q2 == q) continue;
-        const std::int64_t l = near[q2];
-        const double r2 = near_r[q2];
+        const std::int64_t l = near.bond[q2];
+        const double r2 = near.value[q2];
         if (r2 * r2 >= P(tk, tj, f.neighbor_type[l]).cutsq) continue;
         list[nl++] = l;
       }
@@ -568,11 +559,11 @@ class Tersoff final : public Potential {
           work);
     }
     // terms centred at a neighbour j: ¼ b_jk f_A(r̃_jk), b_jk from j's bonds Y_kl − Y_kj
-    for (std::int64_t q = 0; q < nn; ++q) {
-      const std::int64_t j = near[q];
+    for (std::int64_t q = 0; q < near.size; ++q) {
+      const std::int64_t j = near.bond[q];
       const int tj = f.neighbor_type[j];
       const Param& pjk = P(tj, tk, tk);
-      const double rt = near_r[q];
+      const double rt = near.value[q];
       if (rt * rt >= pjk.cutsq) continue;
       const double* yj = Y + 3 * j;
       const double u[3] = {-yj[0], -yj[1], -yj[2]};

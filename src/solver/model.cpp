@@ -113,13 +113,11 @@ template <int D>
 #else
 #define PDCG_SWEEP_CLONES
 #endif
-PDCG_SWEEP_CLONES bool stencil_sweep_2d(const Stencils& S, std::size_t s0, std::size_t s1,
-                                        const double* u, double* f, const Material& m) {
-  return stencil_sweep<2>(S, s0, s1, u, f, m);
-}
-PDCG_SWEEP_CLONES bool stencil_sweep_3d(const Stencils& S, std::size_t s0, std::size_t s1,
-                                        const double* u, double* f, const Material& m) {
-  return stencil_sweep<3>(S, s0, s1, u, f, m);
+/// stencil_sweep of dimension d (2 or 3), each instance inlined into each clone.
+PDCG_SWEEP_CLONES bool stencil_sweep_portable(int d, const Stencils& S, std::size_t s0,
+                                              std::size_t s1, const double* u, double* f,
+                                              const Material& m) {
+  return d == 2 ? stencil_sweep<2>(S, s0, s1, u, f, m) : stencil_sweep<3>(S, s0, s1, u, f, m);
 }
 }  // namespace
 
@@ -493,13 +491,10 @@ bool Model::residual_kernel(const Eigen::VectorXd& u, Eigen::VectorXd& f) const 
 #ifdef PDCG_SOLVER_AVX2
     // AVX2 + FMA sweep (residual_avx2.cpp) when the CPU has it, else the portable one.
     if (simd) {
-      if (!(D == 2 ? detail::stencil_sweep_avx2_2d(S, s0, s1, ud, ft, *material_)
-                   : detail::stencil_sweep_avx2_3d(S, s0, s1, ud, ft, *material_)))
-        ok = false;
+      if (!detail::stencil_sweep_avx2(D, S, s0, s1, ud, ft, *material_)) ok = false;
     } else
 #endif
-        if (!(D == 2 ? stencil_sweep_2d(S, s0, s1, ud, ft, *material_)
-                     : stencil_sweep_3d(S, s0, s1, ud, ft, *material_)))
+        if (!stencil_sweep_portable(D, S, s0, s1, ud, ft, *material_))
       ok = false;
 #pragma omp barrier
     if (pad) {

@@ -313,13 +313,9 @@ PDCG_AVX2_INL __m256d minor2(const __m256d* f, int a, int b, int c, int e) {
 
 }  // namespace
 
-PDCG_AVX2_FN bool stencil_sweep_avx2_2d(const Stencils& S, std::size_t s0, std::size_t s1,
-                                        const double* u, double* f, const Material& material) {
-  return sweep<2>(S, s0, s1, u, f, material);
-}
-PDCG_AVX2_FN bool stencil_sweep_avx2_3d(const Stencils& S, std::size_t s0, std::size_t s1,
-                                        const double* u, double* f, const Material& material) {
-  return sweep<3>(S, s0, s1, u, f, material);
+PDCG_AVX2_FN bool stencil_sweep_avx2(int d, const Stencils& S, std::size_t s0, std::size_t s1,
+                                     const double* u, double* f, const Material& material) {
+  return d == 2 ? sweep<2>(S, s0, s1, u, f, material) : sweep<3>(S, s0, s1, u, f, material);
 }
 
 // P = μ J^(−2/3) (F − ⅓ tr C F⁻ᵀ) + K/4 (J² − J⁻²) F⁻ᵀ  (material.hpp), on four gradients.

@@ -24,15 +24,13 @@ extern std::atomic<bool> vector_kernels_allowed;
 /// (set_vector_kernels: a switch to compare the two paths on the same machine).
 bool cpu_has_avx2_fma();
 
-/// The fused residual sweep over stencils [s0, s1) of dimension 2 / 3: gather F_S, P(F_S)
+/// The fused residual sweep over stencils [s0, s1) of dimension d (2 or 3): gather F_S, P(F_S)
 /// (four stencils at a time, Material::stress4), scatter f_m += w_S P_S G_S^m into f.
 /// Returns false if some F_S is inadmissible (its stencil adds nothing). 2D: f holds 2 doubles
 /// per point; 3D: f is padded to 4 doubles per point (the 4th is not used) and 32-byte
 /// aligned.
-bool stencil_sweep_avx2_2d(const Stencils& S, std::size_t s0, std::size_t s1, const double* u,
-                           double* f, const Material& material);
-bool stencil_sweep_avx2_3d(const Stencils& S, std::size_t s0, std::size_t s1, const double* u,
-                           double* f, const Material& material);
+bool stencil_sweep_avx2(int d, const Stencils& S, std::size_t s0, std::size_t s1, const double* u,
+                        double* f, const Material& material);
 
 /// Neo-Hookean stress of four deformation gradients (layout of Material::stress4), d = 2
 /// (plane strain, F₃₃ = 1) or 3. Returns the admissibility mask, or kNotHandled when some J

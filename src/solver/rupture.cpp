@@ -13,6 +13,36 @@
 
 namespace pdcg::solver {
 
+namespace {
+
+/// F_S = I + Σ_{m∈S} u_m ⊗ G^m of stencil s (docs/theory.md §6, eq. 6.2; G^m = g_S^m V_m as
+/// stored in Stencils::grad), in the first d rows and columns; members in stencil order.
+Mat3 stencil_deformation_gradient(const Stencils& S, std::size_t s, const Eigen::VectorXd& u,
+                                  int d) {
+  Mat3 F = Mat3::Identity();
+  for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
+    const int m = S.index[r];
+    const double* g = S.grad.data() + r * d;
+    for (int a = 0; a < d; ++a)
+      for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
+  }
+  return F;
+}
+
+/// Adds one Newton solve (a re-equilibration or a polish) to the stagger cost: its assembly
+/// and linear-solve time, factorisations and GMRES iterations, and its Newton iterations
+/// (those it took to converge, or every iteration of its residual history if it failed).
+void add_newton_cost(StaggerCost& cost, const StepReport& rep, bool converged) {
+  cost.assembly_seconds += rep.assembly_seconds;
+  cost.solve_seconds += rep.solve_seconds;
+  cost.factorisations += rep.factorisations;
+  cost.krylov_iterations += rep.krylov_iterations;
+  cost.newton_iterations +=
+      converged ? rep.iterations : static_cast<int>(rep.residual_history.size());
+}
+
+}  // namespace
+
 RuptureCriterion parse_rupture_criterion(const std::string& name) {
   if (name == "bond_stretch") return RuptureCriterion::bond_stretch;
   if (name == "principal_stretch") return RuptureCriterion::principal_stretch;
@@ -216,13 +246,7 @@ double Rupture::evaluate_directed(const Eigen::VectorXd& u) const {
         for (int a = 0; a < d; ++a) y(a) += u[d * j + a] - u[d * i + a];
         dir[q] = y.norm() / (x[j] - x[i]).norm();
       } else {
-        Mat3 F = Mat3::Identity();
-        for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
-          const int m = S.index[r];
-          const double* g = S.grad.data() + r * d;
-          for (int a = 0; a < d; ++a)
-            for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-        }
+        const Mat3 F = stencil_deformation_gradient(S, q, u, d);
         if (softening()) {
           // the undamaged energy of the direction (the pair's Y follows below)
           double psi = 0;
@@ -420,13 +444,7 @@ double Rupture::stored_energy(const Eigen::VectorXd& u) const {
 #pragma omp parallel for schedule(static) reduction(+ : e) reduction(&& : ok)
   for (std::size_t s = 0; s < S.size(); ++s) {
     if (!(S.weight[s] > 0)) continue;
-    Mat3 F = Mat3::Identity();
-    for (auto r = S.offsets[s]; r < S.offsets[s + 1]; ++r) {
-      const int m = S.index[r];
-      const double* g = S.grad.data() + r * d;
-      for (int a = 0; a < d; ++a)
-        for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-    }
+    const Mat3 F = stencil_deformation_gradient(S, s, u, d);
     double psi = 0;
     if (!mat.evaluate_at(S.center[s], F, &psi, nullptr, nullptr)) ok = false;
     e += S.weight[s] * (psi - psi_ref_[S.center[s]]);
@@ -440,21 +458,12 @@ void Rupture::finish_breaks(const Eigen::VectorXd& u, RupturePass& pass, bool so
   if (pass.broken > 0 || softened) {
     pass.rebuilt = commit(u);
     centres = body_->last_rebuilt_centres();
-  }
-  // A rebuilt (thinned, one-sided) BA stencil can map the current displacement to an
-  // inverted F (J ≤ 0) although its bond is below the criterion; the material cannot be
-  // evaluated there and the re-equilibrium could not even start. Such a bond counts as past
-  // every criterion (as energy_density already treats J ≤ 0) and breaks too; repeat until
-  // every intact stencil is admissible at u (bounded: each round breaks at least one bond).
-  for (int round = 0; (pass.broken > 0 || softened) && round < 100; ++round) {
-    const std::vector<int> last = body_->last_rebuilt_centres();
-    const std::size_t inv = break_inverted(u, &pass.point_stencils_off, &last);
-    if (inv == 0) break;
-    pass.broken += inv;
-    pass.inverted += inv;
-    pass.rebuilt += commit(u);
-    const auto& c = body_->last_rebuilt_centres();
-    centres.insert(centres.end(), c.begin(), c.end());
+    // A rebuilt (thinned, one-sided) BA stencil can map the current displacement to an
+    // inverted F (J ≤ 0) although its bond is below the criterion; the material cannot be
+    // evaluated there and the re-equilibrium could not even start. Such a bond counts as past
+    // every criterion (as energy_density already treats J ≤ 0) and breaks too; repeat until
+    // every intact stencil is admissible at u (bounded: each round breaks at least one bond).
+    break_inverted_rounds(u, false, pass, centres);
   }
   if (pass.inverted > 0) {
     std::sort(centres.begin(), centres.end());
@@ -464,14 +473,12 @@ void Rupture::finish_breaks(const Eigen::VectorXd& u, RupturePass& pass, bool so
   pass.anchored = model_->anchors().size();
 }
 
-RupturePass Rupture::break_inadmissible(const Eigen::VectorXd& u) {
-  RupturePass pass;
-  std::vector<int> centres;
+void Rupture::break_inverted_rounds(const Eigen::VectorXd& u, bool check_all_first,
+                                    RupturePass& pass, std::vector<int>& centres) {
   for (int round = 0; round < 100; ++round) {
-    std::size_t off = 0;
     const std::vector<int> last = body_->last_rebuilt_centres();
-    const std::size_t inv = break_inverted(u, &off, round == 0 ? nullptr : &last);
-    pass.point_stencils_off += off;
+    const std::size_t inv = break_inverted(u, &pass.point_stencils_off,
+                                           round == 0 && check_all_first ? nullptr : &last);
     if (inv == 0) break;
     pass.broken += inv;
     pass.inverted += inv;
@@ -479,6 +486,12 @@ RupturePass Rupture::break_inadmissible(const Eigen::VectorXd& u) {
     const auto& c = body_->last_rebuilt_centres();
     centres.insert(centres.end(), c.begin(), c.end());
   }
+}
+
+RupturePass Rupture::break_inadmissible(const Eigen::VectorXd& u) {
+  RupturePass pass;
+  std::vector<int> centres;
+  break_inverted_rounds(u, true, pass, centres);
   std::sort(centres.begin(), centres.end());
   centres.erase(std::unique(centres.begin(), centres.end()), centres.end());
   all_rebuilt_ = std::move(centres);
@@ -523,13 +536,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
     const std::size_t i = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
     for (auto q = fam.begin(i); q < fam.end(i); ++q) {
       if (B.broken(q) || !(S.weight[q] > 0)) continue;
-      Mat3 F = Mat3::Identity();
-      for (auto r = S.offsets[q]; r < S.offsets[q + 1]; ++r) {
-        const int m = S.index[r];
-        const double* g = S.grad.data() + r * d;
-        for (int a = 0; a < d; ++a)
-          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-      }
+      const Mat3 F = stencil_deformation_gradient(S, q, u, d);
       Mat3 P;
       if (!mat.evaluate_at(static_cast<int>(i), F, nullptr, &P, nullptr)) bad[q] = 1;
     }
@@ -549,13 +556,7 @@ std::size_t Rupture::break_inverted(const Eigen::VectorXd& u, std::size_t* point
     for (std::size_t ci = 0; ci < nc; ++ci) {
       const std::size_t k = centres ? static_cast<std::size_t>((*centres)[ci]) : ci;
       if (e[k].isZero() || B.point_stencil_suppressed(static_cast<int>(k))) continue;
-      Mat3 F = Mat3::Identity();
-      for (auto r = Pst.offsets[k]; r < Pst.offsets[k + 1]; ++r) {
-        const int m = Pst.index[r];
-        const double* g = Pst.grad.data() + r * d;
-        for (int a = 0; a < d; ++a)
-          for (int J = 0; J < d; ++J) F(a, J) += u[d * m + a] * g[J];
-      }
+      const Mat3 F = stencil_deformation_gradient(Pst, k, u, d);
       Mat3 P;
       if (!mat.evaluate_at(static_cast<int>(k), F, nullptr, &P, nullptr) &&
           body_->suppress_point_stencil(static_cast<int>(k)) && points_off)
@@ -804,19 +805,11 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     StepReport rep;
     during = during_points = 0;
     const bool ok = solver.reequilibrate(rep);
-    cost.assembly_seconds += rep.assembly_seconds;
-    cost.solve_seconds += rep.solve_seconds;
-    cost.factorisations += rep.factorisations;
-    cost.krylov_iterations += rep.krylov_iterations;
+    add_newton_cost(cost, rep, ok);
+    if (!ok) cost.failed_newton_iterations += static_cast<int>(rep.residual_history.size());
     if (softening())
       log::debug("rupture pass {}: damage grew in {} pairs by more than {} (largest {:.3g})",
                  pass_no, p.damaged, opt_.damage_tolerance, p.max_damage_increment);
-    if (ok)
-      cost.newton_iterations += rep.iterations;
-    else {
-      cost.newton_iterations += static_cast<int>(rep.residual_history.size());
-      cost.failed_newton_iterations += static_cast<int>(rep.residual_history.size());
-    }
     log::info(
         "rupture pass {} at t = {:.6g}: {} bonds broke ({} broken in total, max {} {:.4g} > {}; "
         "{} of them with an inverted rebuilt stencil), "
@@ -845,12 +838,9 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
       cost.continuation_iterations += ptc.iterations;
       StepReport polish;
       const bool polished = continued && solver.reequilibrate(polish);
-      cost.assembly_seconds += ptc.assembly_seconds + polish.assembly_seconds;
-      cost.solve_seconds += ptc.solve_seconds + polish.solve_seconds;
-      cost.factorisations += polish.factorisations;
-      cost.krylov_iterations += polish.krylov_iterations;
-      cost.newton_iterations +=
-          polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
+      cost.assembly_seconds += ptc.assembly_seconds;
+      cost.solve_seconds += ptc.solve_seconds;
+      add_newton_cost(cost, polish, polished);
       log::info(
           "pseudo-transient continuation: {} after {} factorisations ({} steps rejected, "
           "residual {:.3e}; {} bonds broke and {} point stencils went off when their stencils "
@@ -883,12 +873,7 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
     cost.relaxation_iterations += adr.iterations;
     StepReport polish;
     const bool polished = relaxed && solver.reequilibrate(polish);
-    cost.assembly_seconds += polish.assembly_seconds;
-    cost.solve_seconds += polish.solve_seconds;
-    cost.factorisations += polish.factorisations;
-    cost.krylov_iterations += polish.krylov_iterations;
-    cost.newton_iterations +=
-        polished ? polish.iterations : static_cast<int>(polish.residual_history.size());
+    add_newton_cost(cost, polish, polished);
     log::info(
         "adaptive dynamic relaxation: {} after {} iterations (residual {:.3e}; {} bonds broke "
         "and {} point stencils went off when their stencils inverted; {} steps rejected on "

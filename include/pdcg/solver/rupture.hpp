@@ -264,6 +264,12 @@ class Rupture {
   /// After bonds broke in a pass: rebuilds, breaks the bonds whose rebuilt stencils invert
   /// at u (repeatedly), records the rebuilt centres and the anchors.
   void finish_breaks(const Eigen::VectorXd& u, RupturePass& pass, bool softened = false);
+  /// Rounds of break_inverted and commit until no stencil inverts at u (at most 100): each
+  /// round checks the centres the last rebuild touched (the first round every stencil if
+  /// check_all_first). Adds to pass (broken = inverted, rebuilt, point stencils off) and
+  /// appends the rebuilt centres to centres (unsorted, possibly repeated).
+  void break_inverted_rounds(const Eigen::VectorXd& u, bool check_all_first, RupturePass& pass,
+                             std::vector<int>& centres);
   /// softening: Σ over the BA stencils of w_s (Ψ(F_s) − Ψ(I)) at u (NaN if one is inverted).
   double stored_energy(const Eigen::VectorXd& u) const;
   bool softening() const { return opt_.softening != RuptureSoftening::none; }
