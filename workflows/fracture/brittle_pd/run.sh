@@ -11,7 +11,7 @@
 #   -p PDCG     pdcg executable (default build/pdcg)
 #   -o OUT      output directory (default results/brittle_pd); runs in OUT/<case>
 #   -c "CASE.." cases, each n:m:notch:rule[:rho] (rule brittle|soft), default "40:3.015:0.2:brittle"
-#   -e S        strain at the end of loading (default 0.06), -k K load steps (default 60)
+#   -e S        strain at the end of loading (default 0.045), -k K load steps (default 90: 0.0005 each)
 #   -s S0       first load step straight to strain S0 (default 0: K equal steps), then K - 1 to S
 #   -t SEC      wall-time limit per PD run (default 1200 s; the run is stopped there and
 #               analysed from what it wrote: the steps before an unstable pass)
@@ -22,8 +22,8 @@ src=$(cd "$here/../../.." && pwd)
 pdcg=$src/build/pdcg
 out=$src/results/brittle_pd
 cases="40:3.015:0.2:brittle"
-smax=0.06
-steps=60
+smax=0.045
+steps=90
 start0=0
 limit=1200
 while getopts "p:o:c:e:k:s:t:h" opt; do
@@ -80,15 +80,16 @@ for cs in $cases; do
   rc=0
   (cd "$run" && OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} nice -n 10 "$py" "$src/workflows/quickstart/timed.py" \
     time.json "$run" timeout "$limit" "$pdcg" run sheet.yaml -o pd > pd.log 2>&1) || rc=$?
-  echo "$name: pdcg exit $rc after $(( $(date +%s) - start )) s wall ($([ $rc = 124 ] && echo "stopped at the time limit" || echo finished))"
+  echo "$name: pdcg exit $rc after $(( $(date +%s) - start )) s wall$([ $rc = 124 ] && echo " (stopped at the time limit)" || true)"
 done
 # the table of every case in OUT (this call's and earlier ones)
 header=--header
-: > "$out/summary.csv"
+table=$(mktemp "$out/summary.XXXXXX")
 for run in "$out"/n*/; do
   [ -e "$run/pd/reactions.csv" ] || continue
-  "$py" "$here/pd_sheet.py" analyze "$run" --reference "$src/workflows/fracture/brittle_md/reference_lj15.csv" $header >> "$out/summary.csv"
+  "$py" "$here/pd_sheet.py" analyze "$run" --reference "$src/workflows/fracture/brittle_md/reference_lj15.csv" $header >> "$table"
   header=
 done
+mv "$table" "$out/summary.csv"  # whole: two runs of run.sh on one OUT do not interleave their rows
 column -s, -t < "$out/summary.csv" | cut -c1-250
 echo "table: $out/summary.csv"
