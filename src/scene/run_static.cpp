@@ -190,6 +190,9 @@ void run_scene(const Scene& s, const RunOptions& ro) {
                        restart->h5->exists("rupture/point_stencils_off")
                            ? restart->h5->read_int("rupture/point_stencils_off")
                            : std::vector<std::int64_t>{});
+      // the residual scale's floor after separation (older checkpoints: re-derived)
+      if (restart->h5->exists("rupture/peak_force"))
+        rupture->restore_peak_force(restart->vec("rupture/peak_force").at(0));
       if (griffith)
         rupture->restore_work(restart->vec("rupture/work"), restart->vec("rupture/work_psi"),
                               restart->h5->attribute_double("/", "dissipated_energy"));
@@ -278,6 +281,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
         const auto& ap = model.anchors();
         h5->write("rupture/anchor_points", std::vector<std::int64_t>(ap.begin(), ap.end()));
         h5->write("rupture/anchor_targets", model.anchor_targets());
+        h5->write("rupture/peak_force", std::vector<double>{rupture->peak_force()});
         if (griffith) {
           h5->write("rupture/work", rupture->bond_work());
           h5->write("rupture/work_psi", rupture->bond_work_last_psi());

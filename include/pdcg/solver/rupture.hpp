@@ -224,6 +224,12 @@ class Rupture {
                std::vector<double> anchor_targets,
                const std::vector<std::int64_t>& point_stencils_off = {});
   std::vector<double> damage() const { return body_->damage(); }
+  /// Largest ‖f_int‖ of a converged state seen by stagger: 1e-4 of it is the floor of the
+  /// residual scale once the body has separated (docs/effects.md §2, "Residual scale after
+  /// separation"). In the checkpoint: a restart re-deriving it from the restored state got a
+  /// lower floor after the peak load and failed a pass the uninterrupted run converged.
+  double peak_force() const { return peak_force_; }
+  void restore_peak_force(double peak) { peak_force_ = peak; }
 
   // ---- fracture_energy (empty / zero for the other criteria) -------------------
   /// ψ_c = G_c / (β_d δ): the energy density at which a homogeneously loaded bond breaks.
