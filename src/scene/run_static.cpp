@@ -198,8 +198,18 @@ void run_scene(const Scene& s, const RunOptions& ro) {
                               restart->h5->attribute_double("/", "dissipated_energy"));
     }
     for (const auto& [name, run] : runs) run->restore(*restart->h5, "effects/" + name);
+    // the balance's normaliser, the largest load so far (absent from checkpoints written
+    // before it was stored: the restarted run then normalises by its own loads only)
+    double peak_load = 0.0;
+    if (restart->h5->has_attribute("/", "peak_load"))
+      peak_load = restart->h5->attribute_double("/", "peak_load");
+    else
+      log::warn(
+          "{}: no peak_load in this checkpoint (written by an earlier pdcg); the logged force "
+          "balance is normalised by the loads of the restarted steps only",
+          restart->file.string());
     solver.restore(vec_of(restart->vec("state/u")), vec_of(restart->vec("state/f")), restart->t,
-                   static_cast<int>(restart->h5->attribute_int("/", "solver_step")));
+                   static_cast<int>(restart->h5->attribute_int("/", "solver_step")), peak_load);
     csv << restart->series;
     written = restart->written;
     first = static_cast<int>(restart->step) + 1;
@@ -274,6 +284,7 @@ void run_scene(const Scene& s, const RunOptions& ro) {
       h5->write("state/u", std_of(solver.displacement()));
       h5->write("state/f", std_of(solver.internal_force()));
       h5->attribute("/", "solver_step", static_cast<std::int64_t>(solver.step()));
+      h5->attribute("/", "peak_load", solver.peak_load());
       if (rupture) {
         h5->write("rupture/broken", rupture->broken_pairs());
         const auto po = body.suppressed_point_stencils();

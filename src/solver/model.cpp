@@ -269,21 +269,20 @@ void Model::build_defect_flux() {
   corr_base_ = corr_coef_;
 }
 
-// Anchored pieces (docs/solver.md §3, "Anchored pieces"): rupture parks a point that no
-// stencil couples any more (and, on request, every point of a free fragment) on an anchor
-// spring, and pins a piece held in some directions only along the others. A weak-form pair
-// term −½(P(F̄_k) + P(F̄_l)) h_kl between two points that no chain of live stencils connects
-// any more would still act across the cut; if one side is anchored, its springs — no
-// reaction of any set — hold that pull, and Σ reactions + Σ tractions = Σ spring forces ≠ 0.
-// So the pairs between different pieces are dropped (from both rows: each row pair stays
-// antisymmetric, Σ_k f_k = 0 is kept) wherever either piece holds an anchor. Pieces: union–find
-// over the members with nonzero G of every energy stencil of nonzero weight (the coupling
-// Rupture::update_anchors uses). The pattern stays (zero coefficients), so the tangent, the
-// matrix-free product and the row sums, which read these coefficients, follow.
-void Model::cut_flux_at_anchored_pieces() {
+// Pieces (docs/solver.md §3, "Pieces"): a weak-form pair term −½(P(F̄_k) + P(F̄_l)) h_kl
+// between two points that no chain of live stencils connects any more would still act across
+// the cut: it pulls one piece with the other's stress. Where a side is anchored (rupture parks
+// a point no stencil couples on a spring, and pins a piece held in some directions only), its
+// springs — no reaction of any set — hold that pull and Σ reactions + Σ tractions ≠ 0; where
+// both sides are held by grips, each grip carries a share of the other piece's load. So the
+// pairs between different pieces are dropped, whatever holds them (from both rows: each row
+// pair stays antisymmetric, Σ_k f_k = 0 is kept). Pieces: union–find over the members with
+// nonzero G of every energy stencil of nonzero weight (the coupling Rupture::update_anchors
+// uses). The pattern stays (zero coefficients), so the tangent, the matrix-free product and
+// the row sums, which read these coefficients, follow.
+void Model::cut_flux_between_pieces() {
   if (corr_base_.empty()) return;
   corr_coef_ = corr_base_;
-  if (anchor_points_.empty()) return;
   const std::size_t N = body_->size();
   std::vector<int> parent(N);
   for (std::size_t k = 0; k < N; ++k) parent[k] = static_cast<int>(k);
@@ -306,14 +305,12 @@ void Model::cut_flux_at_anchored_pieces() {
         parent[r] = first;
     }
   }
-  std::vector<char> anchored_piece(N, 0);
-  for (int k : anchor_points_) anchored_piece[find(k)] = 1;
   for (std::size_t w = 0; w < weak_points_.size(); ++w) {
     const int pk = find(weak_points_[w]);
     const auto b = corr_.begin(w);  // the row's own entry, then its flux neighbours
     for (auto c = b + 1; c < corr_.end(w); ++c) {
       const int pl = find(weak_points_[corr_.index[c]]);
-      if (pk != pl && (anchored_piece[pk] || anchored_piece[pl])) {
+      if (pk != pl) {
         corr_coef_[b] -= corr_coef_[c];
         corr_coef_[c] = Vec3::Zero();
       }
@@ -585,7 +582,7 @@ void Model::set_anchors(std::vector<int> points, std::vector<double> targets, do
   anchor_points_ = std::move(points);
   anchor_u_ = std::move(targets);
   anchor_k_ = stiffness;
-  cut_flux_at_anchored_pieces();
+  cut_flux_between_pieces();
 }
 
 void Model::add_anchors(const Eigen::VectorXd& u, Eigen::VectorXd& f, SparseRow* K) const {

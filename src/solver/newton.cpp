@@ -1235,9 +1235,12 @@ bool StaticSolver::pseudo_transient(double tol, int max_iterations, StepReport& 
   return done(true);
 }
 
-void StaticSolver::restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step) {
+void StaticSolver::restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step,
+                           double peak_load) {
   if (u.size() != u_.size() || f.size() != u_.size())
     throw Error("internal error: restored state of another size");
+  if (!(peak_load >= 0)) throw Error("internal error: restored peak load is negative or NaN");
+  peak_load_ = peak_load;
   u_ = u;
   f_ = f;
   t_ = t;

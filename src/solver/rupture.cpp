@@ -590,7 +590,12 @@ std::size_t Rupture::commit(const Eigen::VectorXd& u) {
           work_[q] = 0;
         }
   }
-  if (n > 0 && opt_.anchor_detached) update_anchors(u);
+  if (n > 0) {
+    if (opt_.anchor_detached)
+      update_anchors(u);  // and the flux between pieces (Model::set_anchors)
+    else
+      model_->cut_flux_between_pieces();  // no force across a complete cut (docs/solver.md §3)
+  }
   return n;
 }
 

@@ -136,10 +136,16 @@ class Model {
   /// any other point. Empty (and not looked at per bond) without rupture. A NaN target
   /// component has no spring (a pin in the other components only).
   /// The weak-form flux's pair terms between points of different pieces (no chain of live
-  /// stencils connects them) are dropped from both rows where either piece holds an anchor
-  /// (docs/solver.md §3, "Anchored pieces"): nothing pulls an anchored piece across the cut,
-  /// so its springs — no reaction of any set — carry no force at equilibrium.
+  /// stencils connects them) are dropped from both rows, whatever holds the pieces (docs/
+  /// solver.md §3, "Pieces"): nothing pulls a piece across a complete cut, so an anchored
+  /// piece's springs — no reaction of any set — carry no force at equilibrium, and a piece
+  /// held by grips loads them with its own forces only. Rupture calls this after every commit.
   void set_anchors(std::vector<int> points, std::vector<double> targets, double stiffness);
+  /// Drops the flux's pair terms between different pieces of the current stencils (what
+  /// set_anchors does after setting the anchors): for runs without anchors (explicit
+  /// dynamics), after every rebuild, so that a restore (which calls set_anchors) gives the
+  /// same model.
+  void cut_flux_between_pieces();
   const std::vector<int>& anchors() const { return anchor_points_; }
 
   /// Distributed evaluation (docs/scale-out.md): restricts every later evaluation to the
@@ -211,7 +217,6 @@ class Model {
   Csr corr_;
   std::vector<Vec3> corr_coef_;
   std::vector<Vec3> corr_base_;  // corr_coef_ of the intact body (set_anchors cuts pairs)
-  void cut_flux_at_anchored_pieces();
   // Point adjacency of the matrix pattern (sorted, CSR over points).
   mutable Csr adjacency_;
   mutable std::int64_t pattern_nnz_ = 0;  // nonzeros of K (d² per adjacent point pair)

@@ -230,9 +230,14 @@ class StaticSolver {
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return t_; }
   int step() const { return step_; }
-  /// Checkpoint restart: sets the state reached after a converged step. Call
-  /// prepare_restart() first, while the model is still the one of the start of the run.
-  void restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step);
+  /// Checkpoint restart: sets the state reached after a converged step, and the largest load
+  /// met so far (peak_load() of the interrupted run: force_balance's normaliser, so that the
+  /// restarted run logs the same balances). Call prepare_restart() first, while the model is
+  /// still the one of the start of the run.
+  void restore(const Eigen::VectorXd& u, const Eigen::VectorXd& f, double t, int step,
+               double peak_load);
+  /// The largest load met so far by force_balance (0 before the first call).
+  double peak_load() const { return peak_load_; }
   /// Analyses the sparsity pattern with the tangent at u = 0, exactly as the first Newton
   /// iteration of a fresh run does (UMFPACK's symbolic analysis looks at the values), so
   /// that a restarted run factorises with the same ordering — bitwise the same results.

@@ -395,7 +395,7 @@ std::vector<DisplacementSet> bottom_pin_top_grips(const Discretization& body, do
   return ds;
 }
 
-// Detached points (docs/solver.md §3, "Anchored pieces"): every bond of two weak points of
+// Detached points (docs/solver.md §3, "Pieces"): every bond of two weak points of
 // the free left edge of the pre-cracked sheet is cut, so no stencil couples them and the
 // rupture commit parks them on anchor springs. Their weak-form pair terms are dropped: the
 // springs carry no force (the points stay where they were parked) and the reactions balance
@@ -479,4 +479,112 @@ TEST(ForceBalance, ChipOnASlidingGripIsPulledByNothing) {
   ASSERT_TRUE(solver.reequilibrate(rr));
   std::printf("chip on the bottom grip: balance %.2e of the load\n", rr.balance);
   EXPECT_LT(rr.balance, 1e-6);
+}
+
+// A complete cut between two pieces held by grips only (no anchor anywhere): the sheet is cut
+// through at x = ½ (between point columns) after a loaded step; the left piece is clamped at the
+// bottom and pulled to u = (0, 0.11) at the top, the right piece is clamped at both ends at
+// u = 0. Separated, the right piece is an unloaded body held at rest: closed form u = 0 and
+// zero reactions on its two grips; the left piece's two reactions are then opposite. A flux
+// pair term across the cut would pull the right piece with the left piece's stress: measured
+// before the pairs between any two pieces were cut (not only anchored ones), its grips carried
+// 1.0e-3 of the load, its points moved 0.039 Δx, the left reactions missed by 1.7e-3 (docs/
+// solver.md §3, "Pieces"). ≤ 1e-6: the Newton tolerance 1e-11 bounds the free components' share
+// (measured ≤ 3e-15).
+TEST(ForceBalance, CompleteCutBetweenTwoGripHeldPieces) {
+  GridSpec g;
+  g.spacing = 0.05;
+  Discretization body = Discretization::grid(g);
+  const auto mat = make_neo_hookean({1.0, 10.0}, Kinematics::plane_stress);
+  Model model(body, *mat);
+  const double h = 0.5 * g.spacing;
+  auto grip = [&](const char* name, bool top, bool left, double pull) {
+    DisplacementSet s{name,
+                      select(body,
+                             [&](const Vec3& x) {
+                               return (top ? x.y() > 1 - h - 1e-9 : x.y() < h + 1e-9) &&
+                                      (x.x() < 0.5) == left;
+                             }),
+                      {}};
+    s.component[0] = [](double) { return 0.0; };
+    s.component[1] = [pull](double t) { return pull * t; };
+    return s;
+  };
+  std::vector<DisplacementSet> ds{
+      grip("bottom-left", false, true, 0.0), grip("top-left", true, true, 0.11),
+      grip("bottom-right", false, false, 0.0), grip("top-right", true, false, 0.0)};
+  NewtonOptions no;
+  no.steps = 1;
+  no.tolerance = 1e-11;
+  StaticSolver solver(model, ds, {}, no);
+  solver.run();
+  // before the cut the right piece is pulled along through the body
+  ASSERT_GT(solver.reaction(3).norm(), 0.1 * solver.reaction(1).norm());
+  Rupture rup(body, model, {RuptureCriterion::bond_stretch, 10.0, 200});
+  const Crack cut{Vec3(0.5, -0.1, 0), Vec3(0.5, 1.1, 0)};
+  const auto& fam = body.families();
+  for (std::size_t i = 0; i < body.size(); ++i)
+    for (auto q = fam.begin(i); q < fam.end(i); ++q)
+      if (crosses(cut, body.positions()[i], body.positions()[fam.index[q]]))
+        body.break_bond(static_cast<int>(i), fam.index[q]);
+  rup.commit(solver.displacement());
+  ASSERT_EQ(model.anchors().size(), 0u) << "both pieces are held by their grips";
+  StepReport rr;
+  ASSERT_TRUE(solver.reequilibrate(rr));
+  const double load = solver.reaction(1).norm();
+  double right_u = 0;
+  for (std::size_t k = 0; k < body.size(); ++k)
+    if (body.positions()[k].x() > 0.5)
+      right_u = std::max(right_u, solver.displacement().segment<2>(2 * k).norm());
+  const double right = std::max(solver.reaction(2).norm(), solver.reaction(3).norm()) / load;
+  const double left = (solver.reaction(0) + solver.reaction(1)).norm() / load;
+  std::printf(
+      "complete cut: right grips %.2e of the load, right piece |u| ≤ %.2e Δx, left "
+      "grips' sum %.2e, balance %.2e\n",
+      right, right_u / g.spacing, left, rr.balance);
+  EXPECT_LT(right, 1e-6);
+  EXPECT_LT(left, 1e-6);
+  EXPECT_LT(right_u, 1e-6 * g.spacing);  // the closed form u = 0, to the Newton tolerance
+  EXPECT_LT(rr.balance, 1e-6);
+}
+
+// The balance's normaliser, the largest load met so far, is part of the solver state: a run
+// restored from a checkpoint after its peak load (the right grip goes out to 0.2 and back to
+// 0.1) logs the same balance numbers as the uninterrupted run. Without it the restarted run
+// divides by the load of its own steps only (measured 5.2e-16 against 3.0e-16 at t = 1).
+TEST(ForceBalance, RestartedRunLogsTheSameBalance) {
+  GridSpec g;
+  g.spacing = 0.1;
+  g.holes.push_back({Vec3(0.42, 0.55, 0), 0.2});
+  const Discretization body = Discretization::grid(g);
+  const auto mat = make_neo_hookean({1.0, 10.0}, Kinematics::plane_strain);
+  const Model model(body, *mat);
+  const double h = 0.5 * g.spacing;
+  std::vector<DisplacementSet> ds(3);
+  ds[0] = {"left", select(body, [&](const Vec3& x) { return x.x() < h + 1e-9; }), {}};
+  ds[0].component[0] = [](double) { return 0.0; };
+  ds[1] = {
+      "pin", select(body, [&](const Vec3& x) { return x.x() < h + 1e-9 && x.y() < h + 1e-9; }), {}};
+  ds[1].component[1] = [](double) { return 0.0; };
+  ds[2] = {"right", select(body, [&](const Vec3& x) { return x.x() > 1 - h - 1e-9; }), {}};
+  ds[2].component[0] = [](double t) { return 0.1 + 0.1 * std::sin(M_PI * t); };
+  NewtonOptions no;
+  no.steps = 5;
+  no.tolerance = 1e-11;
+  std::vector<double> full;
+  StaticSolver a(model, ds, {}, no);
+  a.run([&](const StepReport& r) { full.push_back(r.balance); });
+  ASSERT_EQ(full.size(), 5u);
+  // the run interrupted after step 4 (t = 0.8, past the peak at t = ½) and restarted
+  StaticSolver b(model, ds, {}, no);
+  for (double t : {0.2, 0.4, 0.6, 0.8}) b.advance_to(t);
+  StaticSolver c(model, ds, {}, no);
+  c.prepare_restart();
+  c.restore(b.displacement(), b.internal_force(), b.load_factor(), b.step(), b.peak_load());
+  double restarted = NAN;
+  c.advance_to(1.0, [&](const StepReport& r) { restarted = r.balance; });
+  std::printf("balance at t = 1: uninterrupted %.6e, restarted %.6e\n", full[4], restarted);
+  // the same state (bitwise: prepare_restart, docs/effects.md §3a) divided by the same load
+  EXPECT_EQ(restarted, full[4]);
+  EXPECT_EQ(c.peak_load(), a.peak_load());
 }

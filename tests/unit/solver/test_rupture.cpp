@@ -146,7 +146,7 @@ TEST(Rupture, PseudoTransientReachesTheClosedFormEquilibrium) {
   for (int p : sets[2].points) u[2 * p] = sets[2].component[0](1.0);  // λ = 1.5 on the face
   Eigen::VectorXd f;
   ASSERT_TRUE(b->model->internal_force(u, f));
-  b->solver->restore(u, f, 1.0, 1);
+  b->solver->restore(u, f, 1.0, 1, b->solver->peak_load());
   StepReport rep;
   ASSERT_TRUE(b->solver->pseudo_transient(1e-10, 200, rep));
   EXPECT_GT(rep.iterations, 3);  // it did work: far from equilibrium at the start
