@@ -42,6 +42,7 @@ inline bool is_petsc_solver(LinearSolver s) {
 const char* to_string(LinearSolver s);
 
 struct StepReport;
+class LinearSystemSolver;  // the seam of the Newton linear solves (src/solver/linear_solver.hpp)
 
 /// The hooks by which StaticSolver runs its Newton iteration on several processes
 /// (docs/scale-out.md). pdcg::parallel implements them on PETSc and MPI; this library has no
@@ -269,6 +270,8 @@ class StaticSolver {
   bool owns_row(const SparseRow& K, int row) const;
   /// The grip rows of a product: out_i = (C x)_i (matrix-free GMRES).
   void apply_grip_product(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
+  /// The linear solver of the Newton systems of the given kind (src/solver/linear_solver.hpp).
+  std::unique_ptr<LinearSystemSolver> make_linear(LinearSolver kind) const;
 
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
