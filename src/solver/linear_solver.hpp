@@ -66,6 +66,13 @@ class SerialBlas {
 /// StaticSolver::pseudo_transient (which factorises the shifted tangent with the same objects,
 /// so that UMFPACK's symbolic analysis is done once per run).
 struct DirectFactors {
+  DirectFactors() {
+    // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
+    // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
+    umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+    // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
+    umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
+  }
   Eigen::CholmodSupernodalLLT<SparseCol> cholmod;
   Eigen::UmfPackLU<SparseCol> umfpack;
   Eigen::SparseLU<SparseCol> lu;

@@ -213,12 +213,6 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
   // The Krylov path multiplies by the free rows of K_ directly: no reduced copy (its
   // memory is what large 3D runs cannot afford).
   if (solvers_->linear->needs_reduced()) build_reduced();
-  // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
-  // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
-  auto& umfpack = solvers_->factors.umfpack;
-  umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
-  // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
-  umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
 }
 
 std::unique_ptr<LinearSystemSolver> StaticSolver::make_linear(LinearSolver kind) const {
