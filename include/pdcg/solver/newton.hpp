@@ -17,6 +17,9 @@
 /// CHOLMOD factor of a lattice (Q1 finite-element) stiffness on the same points, for
 /// systems whose LU does not fit in memory (krylov.hpp) — with an assembled K_ff or
 /// matrix-free (NewtonOptions::matrix_free: products from the per-stencil tangents).
+/// Newton calls them through one interface, LinearSystemSolver (src/solver/linear_solver.hpp;
+/// docs/architecture.md, "Linear solvers"), which also holds the rule of which solver replaces
+/// which.
 #pragma once
 
 #include <Eigen/Core>
