@@ -2,21 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/CholmodSupport>
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
-#include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <set>
 #include <type_traits>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
+#include "linear_solver.hpp"
 #include "pdcg/core/error.hpp"
 #include "pdcg/core/log.hpp"
 #include "pdcg/solver/krylov.hpp"
@@ -34,15 +27,6 @@ std::vector<double> traction_face_areas(const Discretization& body,
   for (int p : points) area.push_back(std::max(0.0, surf[p].dot(nh)));
   return area;
 }
-
-// The reduced tangent uses 64-bit indices, so that UMFPACK runs as umfpack_dl_* and CHOLMOD
-// through its cholmod_l_* interface: the int versions address their workspace with int
-// (at most 2³¹ units) and fail with "out of memory" on the LU of the 2D 1.6·10⁵-point plate
-// (docs/performance.md). Cost at small sizes: 4 more bytes per nonzero of K_ff (measured
-// in docs/performance.md, "Long indices").
-using SolverIndex = SuiteSparse_long;
-using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, SolverIndex>;
-static_assert(std::is_same_v<SparseCol, SparseColLong>, "SuiteSparse_long is not std::int64_t");
 
 LinearSolver parse_linear_solver(const std::string& name) {
   if (name == "cholmod") return LinearSolver::cholmod;
@@ -82,18 +66,11 @@ const char* to_string(LinearSolver s) {
 }
 
 struct StaticSolver::Solvers {
-  Eigen::CholmodSupernodalLLT<SparseCol> cholmod;
-  Eigen::UmfPackLU<SparseCol> umfpack;
-  Eigen::SparseLU<SparseCol> lu;
-  Eigen::BiCGSTAB<SparseCol, Eigen::IncompleteLUT<double, SolverIndex>> bicg;
-  bool analysed = false;
-  bool umfpack_factored = false;  // S.umfpack holds a numeric factor (of some earlier K)
-  // gmres: lattice-stiffness preconditioner (factorised once) and the Krylov workspace
-  Eigen::CholmodSupernodalLLT<SparseCol> lattice;
-  bool lattice_ready = false;
-  Gmres gmres;
-  Eigen::VectorXd xfull;  // free vector scattered to all dofs (prescribed = 0)
-  Eigen::VectorXd yfull;  // matrix-free: the full product K xfull
+  DirectFactors factors;  // shared by the direct solvers and pseudo_transient
+  // The linear solver of the Newton systems (linear_solver.hpp); replaced by fallback_of's
+  // solver after a failed solve.
+  std::unique_ptr<LinearSystemSolver> linear;
+  Eigen::VectorXd yfull;  // matrix-free: the full product K Δu_c
   // Reduced tangent K_ff in the column-major storage the factorisations read, filled
   // in place from the full row-major K through red_map_ (no per-iteration copy).
   SparseCol Kff;
@@ -108,31 +85,6 @@ bool distributed_ok(Distribution& dist, bool ok) {
   return flag[0] == 0.0;
 }
 
-// The sparse direct factorisations spend their time in many small dense BLAS calls
-// (supernodes / frontal matrices). A threaded BLAS (OpenBLAS built with OpenMP) then
-// meets an OpenMP barrier per call; on a loaded or oversubscribed machine a barrier
-// costs a scheduler time slice, and the factorisation was measured 20× slower with
-// 2 threads than with 1 (docs/performance.md). The factorisation and the triangular
-// solves therefore run on one thread; the assembly keeps all threads.
-class SerialBlas {
- public:
-  SerialBlas() {
-#ifdef _OPENMP
-    saved_ = omp_get_max_threads();
-    omp_set_num_threads(1);
-#endif
-  }
-  ~SerialBlas() {
-#ifdef _OPENMP
-    omp_set_num_threads(saved_);
-#endif
-  }
-  SerialBlas(const SerialBlas&) = delete;
-  SerialBlas& operator=(const SerialBlas&) = delete;
-
- private:
-  int saved_ = 1;
-};
 }  // namespace
 
 StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> displacement,
@@ -163,10 +115,6 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
         .key(opt_.matrix_free ? "solver.matrix_free" : "solver.check_stability")
         .value("true")
         .fix("drop it, or run on one process with solver.linear: umfpack or gmres");
-  if (opt_.linear == LinearSolver::cholmod && !model.symmetric()) {
-    log::info("weak-form tangent is unsymmetric: using UMFPACK instead of CHOLMOD");
-    opt_.linear = LinearSolver::umfpack;
-  }
   prescribed_by_.assign(n, -1);
   for (std::size_t s = 0; s < dsets_.size(); ++s)
     for (int p : dsets_[s].points)
@@ -229,10 +177,6 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
           .key("solver.check_stability")
           .value("true")
           .fix("grip the point columns (boundary grip: points), or drop check_stability");
-    if (opt_.linear == LinearSolver::cholmod) {
-      log::info("grips on the surface make the system unsymmetric: using UMFPACK");
-      opt_.linear = LinearSolver::umfpack;
-    }
     // κ: a point stiffness, A₁₁₁₁(I) Δx^(d−2), so that the constraint rows are commensurate
     // with the force rows (the Newton residual mixes them).
     Mat3 P;
@@ -259,20 +203,29 @@ StaticSolver::StaticSolver(const Model& model, std::vector<DisplacementSet> disp
                          : model.internal_force_and_tangent(u_, f, K_)))
     throw NumericalError("the reference configuration is inadmissible for the material");
   solvers_ = std::make_shared<Solvers>();
+  solvers_->linear =
+      make_linear(linear_solver_for(opt_.linear, model.symmetric(), !grip_dof_.empty()));
   if (opt_.distribution) {
     if (!grip_dof_.empty()) apply_grip_rows(K_);
     opt_.distribution->setup(free_index_, K_);
     return;
   }
-  solvers_->gmres = Gmres(opt_.gmres_restart);
   // The Krylov path multiplies by the free rows of K_ directly: no reduced copy (its
   // memory is what large 3D runs cannot afford).
-  if (opt_.linear != LinearSolver::gmres) build_reduced();
-  // METIS nested dissection for the (structurally symmetric) nonlocal pattern; the
-  // strategy stays automatic (UMFPACK picks its symmetric strategy for this pattern).
-  solvers_->umfpack.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
-  // No iterative refinement inside UMFPACK: the Newton iteration is the refinement.
-  solvers_->umfpack.umfpackControl()(UMFPACK_IRSTEP) = 0;
+  if (solvers_->linear->needs_reduced()) build_reduced();
+}
+
+std::unique_ptr<LinearSystemSolver> StaticSolver::make_linear(LinearSolver kind) const {
+  LinearSolverSetup setup;
+  setup.options = opt_;
+  setup.factors = &solvers_->factors;
+  // GMRES: the lattice stiffness of the body at the first solve (rupture may have changed it)
+  if (kind == LinearSolver::gmres)
+    setup.preconditioner = [model = model_, free_index = free_index_,
+                            nf = static_cast<int>(free_dofs_.size())] {
+      return lattice_stiffness(model->body(), model->material(), free_index, nf);
+    };
+  return make_linear_solver(kind, setup);
 }
 
 void StaticSolver::build_reduced() {
@@ -502,198 +455,52 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       }
       return true;
     }
-    // Linear solve.
-    if (!dist && opt_.linear != LinearSolver::gmres) {
+    // Linear solve, through the seam (linear_solver.hpp).
+    LinearSystemSolver& linear = *S.linear;
+    if (linear.needs_reduced()) {
       double* kv = S.Kff.valuePtr();
       const double* fv = K_.valuePtr();
       const auto nnz = static_cast<std::int64_t>(red_map_.size());
 #pragma omp parallel for schedule(static)
       for (std::int64_t q = 0; q < nnz; ++q) kv[q] = fv[red_map_[q]];
     }
-    const SparseCol& A = S.Kff;
-    bool ok = true;
     const auto t_fact = std::chrono::steady_clock::now();
     double t_solve_start = 0;
-    auto mark = [&] {
-      t_solve_start =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fact).count();
+    const LinearSystem sys{
+        .K = K_,
+        .Kff = S.Kff,
+        .free_dofs = free_dofs_,
+        .dofs = static_cast<Eigen::Index>(n),
+        .apply_full = mf ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(
+                               [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) {
+                                 model_->apply_tangent(x, out);
+                                 apply_grip_product(x, out);
+                               })
+                         : nullptr,
+        .residual = rnorm,
+        .load_factor = t_target,
+        .iteration = it,
+        .factor_reuse = factor_reuse_,
+        .mark =
+            [&] {
+              t_solve_start =
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fact).count();
+            },
     };
-    switch (opt_.linear) {
-      case LinearSolver::cholmod: {
-        const SerialBlas serial;
-        if (!S.analysed) S.cholmod.analyzePattern(A);
-        S.cholmod.factorize(A);
-        mark();
-        ok = S.cholmod.info() == Eigen::Success;
-        if (ok) dx = S.cholmod.solve(rhs);
-        break;
-      }
-      case LinearSolver::umfpack: {
-        const SerialBlas serial;
-        if (factor_reuse_ > 0 && S.umfpack_factored && S.analysed) {
-          // Factor reuse (rupture passes, docs/effects.md §2): GMRES on K_ff preconditioned
-          // by the last factor, a tangent a few broken bonds or a load increment away; a new
-          // factorisation only if it does not reach the forcing term of the direct solve's
-          // gmres path within factor_reuse_ products.
-          const double eta = std::min(
-              1e-4, std::max(rnorm * rnorm, 0.1 * opt_.tolerance / std::max(rnorm, 1e-300)));
-          const Gmres::Operator apply_K = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-            out.noalias() = A * in;
-            ++rep.operator_products;
-          };
-          const Gmres::Operator apply_M = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-            out = S.umfpack.solve(in);
-          };
-          const GmresReport g = S.gmres.solve(apply_K, apply_M, rhs, dx, eta, factor_reuse_);
-          rep.krylov_iterations += g.iterations;
-          if (g.converged && dx.allFinite()) {
-            // an aged factor (more than a third of the budget spent, > 10 of the rupture
-            // passes' 30): factorise at the next iteration rather than pay more Krylov
-            // iterations on every later system
-            if (3 * g.iterations > factor_reuse_) S.umfpack_factored = false;
-            mark();
-            ok = true;
-            break;
-          }
-          log::debug(
-              "  factor reuse: GMRES at {:.2e} after {} iterations (forcing {:.1e}); "
-              "new factorisation",
-              g.relative_residual, g.iterations, eta);
-        }
-        if (!S.analysed) S.umfpack.analyzePattern(A);
-        S.umfpack.factorize(A);
-        ++rep.factorisations;
-        mark();
-        ok = S.umfpack.info() == Eigen::Success;
-        S.umfpack_factored = ok;
-        // e.g. −1 = out of memory (the int version addresses at most 2³¹ 8-byte units)
-        if (!ok)
-          log::warn("UMFPACK factorisation failed (status {}, matrix {} × {}, {} nonzeros)",
-                    S.umfpack.umfpackFactorizeReturncode(), A.rows(), A.cols(), A.nonZeros());
-        if (ok) dx = S.umfpack.solve(rhs);
-        break;
-      }
-      case LinearSolver::sparse_lu:
-        if (!S.analysed) S.lu.analyzePattern(A);
-        S.lu.factorize(A);
-        mark();
-        ok = S.lu.info() == Eigen::Success;
-        if (ok) dx = S.lu.solve(rhs);
-        break;
-      case LinearSolver::bicgstab:
-        S.bicg.setTolerance(std::min(1e-3 * opt_.tolerance, 1e-10));
-        S.bicg.setMaxIterations(5000);
-        S.bicg.compute(A);  // ILUT: the "factorisation"
-        mark();
-        dx = S.bicg.solve(rhs);
-        ok = S.bicg.info() == Eigen::Success;
-        rep.krylov_iterations += static_cast<int>(S.bicg.iterations());
-        break;
-      case LinearSolver::gmres: {
-        if (!S.lattice_ready) {
-          const SparseCol P =
-              lattice_stiffness(model_->body(), model_->material(), free_index_, nf);
-          const SerialBlas serial;
-          S.lattice.compute(P);
-          if (S.lattice.info() != Eigen::Success)
-            throw NumericalError(
-                "GMRES preconditioner: the Cholesky factorisation of the lattice stiffness "
-                "failed (not positive definite: the displacement constraints may not remove "
-                "every rigid motion of some part of the body)");
-          S.lattice_ready = true;
-          S.xfull.setZero(static_cast<Eigen::Index>(n));
-          S.yfull.setZero(static_cast<Eigen::Index>(n));
-        }
-        mark();
-        // Forcing term (inexact Newton, Eisenstat & Walker 1996): ‖R‖² keeps the quadratic
-        // convergence of the direct solve (each Newton iteration costs an assembly, the
-        // dominant cost in 3D, so Krylov digits are cheaper than Newton iterations), capped
-        // at 1e-4, and no tighter than the next residual needs to meet the tolerance.
-        const double eta =
-            std::min(1e-4, std::max(rnorm * rnorm, 0.1 * opt_.tolerance / std::max(rnorm, 1e-300)));
-        // Threads only for large products: a GMRES iteration has two parallel regions, and
-        // on a loaded machine each barrier can cost a time slice (measured 18× slower with 2
-        // threads than with 1 at 216 points, load 12).
-        const bool threaded = K_.nonZeros() > 4'000'000;
-        const Gmres::Operator apply_K = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-          const auto tp = std::chrono::steady_clock::now();
-          double* xf = S.xfull.data();
-          const int* fd = free_dofs_.data();
-          ++rep.operator_products;
-          if (mf) {  // prescribed entries of xfull stay 0
-            for (int i = 0; i < nf; ++i) xf[fd[i]] = in[i];
-            model_->apply_tangent(S.xfull, S.yfull);
-            apply_grip_product(S.xfull, S.yfull);
-            for (int i = 0; i < nf; ++i) out[i] = S.yfull[fd[i]];
-            rep.product_seconds +=
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
-            return;
-          }
-#pragma omp parallel for schedule(static) if (threaded)
-          for (int i = 0; i < nf; ++i) xf[fd[i]] = in[i];
-          const double* kv = K_.valuePtr();
-          const int* ki = K_.innerIndexPtr();
-          const auto* ko = K_.outerIndexPtr();
-#pragma omp parallel for schedule(static) if (threaded)
-          for (int i = 0; i < nf; ++i) {
-            const int r = fd[i];
-            double s = 0;
-            for (auto q = ko[r]; q < ko[r + 1]; ++q) s += kv[q] * xf[ki[q]];
-            out[i] = s;
-          }
-          rep.product_seconds +=
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - tp).count();
-        };
-        const Gmres::Operator apply_M = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-          const SerialBlas serial;
-          out = S.lattice.solve(in);
-        };
-        const GmresReport g =
-            S.gmres.solve(apply_K, apply_M, rhs, dx, eta, opt_.krylov_max_iterations);
-        rep.krylov_iterations += g.iterations;
-        log::debug("  GMRES: {} iterations, relative residual {:.3e} (forcing {:.1e})",
-                   g.iterations, g.relative_residual, eta);
-        if (!g.converged)
-          throw NumericalError(fmt::format(
-              "GMRES({}) did not converge at load factor {:.6g}, Newton iteration {}: relative "
-              "residual {:.3e} after {} iterations, required {:.1e} (true residual at each "
-              "restart: {:.2e}). The lattice (Q1) preconditioner is too far from the BA "
-              "tangent here — near a loss of stability or ellipticity, with many broken bonds, "
-              "or a very stiff nearly incompressible material — raise krylov_max_iterations "
-              "or use linear: umfpack if its factorisation fits in memory",
-              opt_.gmres_restart, t_target, it, g.relative_residual, g.iterations, eta,
-              fmt::join(g.restart_residuals, " ")));
-        ok = true;
-        break;
-      }
-      case LinearSolver::mumps:  // PETSc (docs/scale-out.md): assembly of the processes'
-      case LinearSolver::gamg:   // partial tangents into one distributed matrix, KSP solve
-      case LinearSolver::hypre:
-        ok = dist->solve(K_, rhs, dx, rep);
-        mark();
-        break;
-    }
-    S.analysed = true;
+    const bool ok = linear.solve(sys, rhs, dx, rep);
     const auto t2 = std::chrono::steady_clock::now();
     rep.assembly_seconds += std::chrono::duration<double>(t1 - t0).count();
     rep.solve_seconds += std::chrono::duration<double>(t2 - t1).count();
     rep.factor_seconds += t_solve_start;
     if (!ok || !dx.allFinite()) {
-      if (opt_.linear == LinearSolver::cholmod) {
-        log::warn("CHOLMOD failed (tangent not positive definite); falling back to UMFPACK");
-        opt_.linear = LinearSolver::umfpack;
-        S.analysed = false;
-        --it;
-        continue;
-      }
-      if (opt_.linear == LinearSolver::bicgstab) {
-        log::warn("BiCGSTAB did not converge; falling back to UMFPACK");
-        opt_.linear = LinearSolver::umfpack;
-        S.analysed = false;
-        --it;
-        continue;
-      }
-      return false;
+      // The fallback rule (fallback_of): retry this iteration with the other solver, which
+      // stays for the rest of the run.
+      const auto fallback = fallback_of(linear.kind());
+      if (!fallback) return false;
+      log::warn("{}", fallback->reason);
+      S.linear = make_linear(fallback->to);
+      --it;
+      continue;
     }
     // Line search on ‖R_f‖ (backtracking, Armijo 1e-4).
     const Eigen::VectorXd u0 = u;
@@ -1054,13 +861,13 @@ bool StaticSolver::pseudo_transient(double tol, int max_iterations, StepReport& 
   rep.residual_history.clear();
   rep.iterations = 0;
   rep.stalled = false;
-  if (opt_.matrix_free || opt_.linear == LinearSolver::gmres ||
-      opt_.linear == LinearSolver::bicgstab)
+  LinearSolver linear = solvers_->linear->kind();  // (after any fallback of the Newton solves)
+  if (opt_.matrix_free || linear == LinearSolver::gmres || linear == LinearSolver::bicgstab)
     return false;  // needs a factorisation of the shifted tangent
   const int nf = static_cast<int>(free_dofs_.size());
-  auto& S = *solvers_;
+  auto& S = solvers_->factors;
   build_reduced();
-  SparseCol& Kff = S.Kff;
+  SparseCol& Kff = solvers_->Kff;
   std::vector<std::int64_t> diag(nf, -1);  // position of (c, c) in K_ff's values
   for (int c = 0; c < nf; ++c)
     for (auto q = Kff.outerIndexPtr()[c]; q < Kff.outerIndexPtr()[c + 1]; ++q)
@@ -1092,7 +899,6 @@ bool StaticSolver::pseudo_transient(double tol, int max_iterations, StepReport& 
     D[r] = sum;
   }
   for (int dof : grip_dof_) D[free_index_[dof]] = 0.0;
-  LinearSolver linear = opt_.linear;
   bool umf_analysed = linear == LinearSolver::umfpack;
   double sigma = 1.0;
   int rejected = 0;
@@ -1253,22 +1059,14 @@ void StaticSolver::prepare_restart() {
         .key("--restart")
         .fix("rerun from the start, or restart a run made on one process");
   auto& S = *solvers_;
-  if (S.analysed || opt_.linear == LinearSolver::bicgstab || opt_.linear == LinearSolver::gmres)
-    return;
+  if (!S.linear->needs_analysis()) return;
   Eigen::VectorXd f;
   if (!model_->internal_force_and_tangent(Eigen::VectorXd::Zero(model_->dofs()), f, K_))
     throw NumericalError("inadmissible reference state while preparing a restart");
   if (!grip_dof_.empty()) apply_grip_rows(K_);
   for (std::size_t q = 0; q < red_map_.size(); ++q)
     S.Kff.valuePtr()[q] = K_.valuePtr()[red_map_[q]];
-  const SparseCol& A = S.Kff;
-  if (opt_.linear == LinearSolver::cholmod)
-    S.cholmod.analyzePattern(A);
-  else if (opt_.linear == LinearSolver::umfpack)
-    S.umfpack.analyzePattern(A);
-  else
-    S.lu.analyzePattern(A);
-  S.analysed = true;
+  S.linear->analyse(S.Kff);
 }
 
 void StaticSolver::run(const std::function<void(const StepReport&)>& on_step) {

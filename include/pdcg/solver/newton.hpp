@@ -17,6 +17,9 @@
 /// CHOLMOD factor of a lattice (Q1 finite-element) stiffness on the same points, for
 /// systems whose LU does not fit in memory (krylov.hpp) — with an assembled K_ff or
 /// matrix-free (NewtonOptions::matrix_free: products from the per-stencil tangents).
+/// Newton calls them through one interface, LinearSystemSolver (src/solver/linear_solver.hpp;
+/// docs/architecture.md, "Linear solvers"), which also holds the rule of which solver replaces
+/// which.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,6 +45,7 @@ inline bool is_petsc_solver(LinearSolver s) {
 const char* to_string(LinearSolver s);
 
 struct StepReport;
+class LinearSystemSolver;  // the seam of the Newton linear solves (src/solver/linear_solver.hpp)
 
 /// The hooks by which StaticSolver runs its Newton iteration on several processes
 /// (docs/scale-out.md). pdcg::parallel implements them on PETSc and MPI; this library has no
@@ -274,6 +278,8 @@ class StaticSolver {
   bool owns_row(const SparseRow& K, int row) const;
   /// The grip rows of a product: out_i = (C x)_i (matrix-free GMRES).
   void apply_grip_product(const Eigen::VectorXd& x, Eigen::VectorXd& out) const;
+  /// The linear solver of the Newton systems of the given kind (src/solver/linear_solver.hpp).
+  std::unique_ptr<LinearSystemSolver> make_linear(LinearSolver kind) const;
 
   const Model* model_;
   std::vector<DisplacementSet> dsets_;
