@@ -591,6 +591,9 @@ class PetscForceExchange final : public solver::ForceExchange {
   void stencils_rebuilt() override {
     if (!part_) return;  // the whole model reads the body's stencils themselves
     part_->restrict_evaluation(owned_);
+    // the rupture driver cut the flux between separated pieces in the whole model
+    // (Rupture::commit, docs/solver.md §3 "Pieces"); this process's part evaluates the forces
+    part_->cut_flux_between_pieces();
     const auto& body = part_->body();
     const long long mine[2] = {static_cast<long long>(body.broken_bonds()),
                                -static_cast<long long>(body.broken_bonds())};

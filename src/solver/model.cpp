@@ -290,7 +290,11 @@ void Model::cut_flux_between_pieces() {
     while (parent[k] != k) k = parent[k] = parent[parent[k]];
     return k;
   };
-  const Stencils& S = *energy_;
+  // every stencil of the body, not only the evaluated ones (restrict_evaluation): the pieces
+  // are a property of the whole body, and every process must find the same ones
+  const Stencils& S = opt_.correspondence == Correspondence::bond_associated
+                          ? body_->bond_stencils()
+                          : body_->point_stencils();
   for (std::size_t s = 0; s < S.size(); ++s) {
     if (!(S.weight[s] > 0)) continue;
     int first = -1;
