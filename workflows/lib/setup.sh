@@ -69,3 +69,16 @@ pdcg_build() {
   fi
   cmake --build "$PDCG_BUILD" -j"${PDCG_JOBS:-2}"
 }
+
+# pdcg_seed_test_costs <build-dir>: a build tree that has never run ctest gets the test costs
+# of a measured run (tests/ctest-costs.txt, ctest's own CTestCostData format: name, runs,
+# seconds), so that `ctest -j2` starts the long tests first instead of leaving them for a
+# one-core tail. ctest replaces the file with its own measurements after each run; a test
+# missing from the seed only runs in its default place, so a stale seed costs time, never a
+# result.
+pdcg_seed_test_costs() {
+  local cost=$1/Testing/Temporary/CTestCostData.txt
+  [ -f "$cost" ] && return 0
+  mkdir -p "$(dirname "$cost")"
+  cp "$PDCG_ROOT/tests/ctest-costs.txt" "$cost"
+}
