@@ -18,7 +18,7 @@ namespace {
 // bad file is an input error with its line.
 void load_model_geometry(const Ctx& c, const YAML::Node& g, const std::filesystem::path& scene_file,
                          Scene& s) {
-  for (const char* k : {"origin", "size", "spacing", "nodes", "holes", "cracks"})
+  for (const char* k : {"origin", "size", "spacing", "nodes", "holes", "cracks", "cut_cells"})
     if (g[k])
       throw c
           .err(g[k], std::string("geometry.") + k,
@@ -111,7 +111,7 @@ class Geometry final : public Component {
           .key("geometry")
           .expected("geometry: {shape: rectangle, origin, size, spacing}");
     c.keys(g, "geometry",
-           {"shape", "origin", "size", "spacing", "nodes", "holes", "cracks", "file"});
+           {"shape", "origin", "size", "spacing", "nodes", "holes", "cracks", "cut_cells", "file"});
     const std::string shape =
         g["shape"] ? c.choice(g["shape"], "geometry.shape", {"rectangle", "box", "model"})
                    : (d == 2 ? "rectangle" : "box");
@@ -153,6 +153,8 @@ class Geometry final : public Component {
           s.geometry.holes.push_back(hole);
         }
       }
+      // Cut-cell volumes at the holes (default true; false: whole grid cells).
+      if (g["cut_cells"]) s.geometry.cut_cells = c.boolean(g["cut_cells"], "geometry.cut_cells");
       if (g["cracks"]) {
         if (!g["cracks"].IsSequence())
           throw c.err(g["cracks"], "geometry.cracks", "expected a list")
@@ -188,7 +190,8 @@ class Geometry final : public Component {
         vec(h.center);
         y << YAML::Key << "radius" << YAML::Value << h.radius << YAML::EndMap;
       }
-      y << YAML::EndSeq << YAML::Key << "cracks" << YAML::Value << YAML::BeginSeq;
+      y << YAML::EndSeq << YAML::Key << "cut_cells" << YAML::Value << s.geometry.cut_cells;
+      y << YAML::Key << "cracks" << YAML::Value << YAML::BeginSeq;
       for (const auto& k : s.geometry.cracks) {
         y << YAML::Flow << YAML::BeginMap << YAML::Key << "from" << YAML::Value;
         vec(k.from);

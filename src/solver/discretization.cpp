@@ -10,6 +10,7 @@
 #include <numeric>
 
 #include "pdcg/core/error.hpp"
+#include "pdcg/solver/cut_cells.hpp"
 
 namespace pdcg::solver {
 
@@ -166,6 +167,125 @@ void sphere_surface(const Hole& h, const std::vector<Vec3>& x,
   }
 }
 
+/// Cut-cell volumes (docs/solver.md §2, "Cut-cell volumes"). Cell of a lattice node: the
+/// Δx-cube about it clipped to the box (the dual cell of a vertex grid). A point whose cell a
+/// hole h with exact[h] cuts gets V = |cell| − Σ_h |cell ∩ hole_h| (the holes are disjoint).
+/// A cell whose node lies in a hole (no point) but which overlaps the body ("orphan") is split
+/// into sub-cells (8² in 2D, 3³ in 3D); the body part of each goes to the nearest point among
+/// the 3^d lattice neighbours (a Voronoi partition at the sub-cell resolution), so Σ V is the
+/// body's measure |box| − Σ_h |hole_h ∩ box| to round-off. An orphan cell that a non-exact hole
+/// touches, or with no neighbouring point, keeps its body part out (never met on the scenes).
+void cut_cell_volumes(const GridSpec& spec, const std::vector<char>& exact,
+                      const std::vector<std::array<long, 3>>& lattice,
+                      const std::array<long, 3>& nl, double shift, const std::vector<Vec3>& x,
+                      std::vector<double>& vol) {
+  const int d = spec.dimension;
+  const double dx = spec.spacing;
+  const std::size_t nh = spec.holes.size();
+  bool any = false;
+  for (std::size_t h = 0; h < nh; ++h) any = any || exact[h];
+  if (!any) return;
+  std::vector<int> at(nl[0] * nl[1] * nl[2], -1);
+  auto flat = [&](long i, long j, long k) { return i + nl[0] * (j + nl[1] * k); };
+  for (std::size_t p = 0; p < lattice.size(); ++p)
+    at[flat(lattice[p][0], lattice[p][1], lattice[p][2])] = static_cast<int>(p);
+  auto node = [&](long i, long j, long k) {
+    Vec3 q = spec.origin + dx * Vec3(i + shift, j + shift, d == 3 ? k + shift : 0.0);
+    if (d == 2) q.z() = 0.0;
+    return q;
+  };
+  auto cell = [&](const Vec3& q, Vec3& lo, Vec3& hi) {
+    lo = q - Vec3::Constant(0.5 * dx);
+    hi = q + Vec3::Constant(0.5 * dx);
+    for (int a = 0; a < d; ++a) {
+      lo(a) = std::max(lo(a), spec.origin(a));
+      hi(a) = std::min(hi(a), spec.origin(a) + spec.size(a));
+    }
+    double m = 1.0;
+    for (int a = 0; a < d; ++a) m *= std::max(0.0, hi(a) - lo(a));
+    return m;
+  };
+  // Body measure of a box: |box| − Σ_h |box ∩ hole_h|; false if a non-exact hole cuts it.
+  auto body_part = [&](const Vec3& lo, const Vec3& hi, double box, double& body) {
+    body = box;
+    for (std::size_t h = 0; h < nh; ++h) {
+      const double m = cell_hole_measure(d, lo, hi, spec.holes[h].center, spec.holes[h].radius);
+      if (m > 0 && !exact[h]) return false;
+      body -= m;
+    }
+    body = std::max(0.0, body);
+    return true;
+  };
+  // Lattice cells within reach of an exact hole (each visited once).
+  std::vector<char> seen(at.size(), 0);
+  std::vector<std::array<long, 3>> cells;
+  for (std::size_t h = 0; h < nh; ++h) {
+    if (!exact[h]) continue;
+    const auto& H = spec.holes[h];
+    std::array<long, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    for (int a = 0; a < d; ++a) {
+      lo[a] = std::max(0L, static_cast<long>(
+                               std::floor((H.center(a) - H.radius - spec.origin(a)) / dx - shift)) -
+                               1);
+      hi[a] = std::min(
+          nl[a] - 1,
+          static_cast<long>(std::ceil((H.center(a) + H.radius - spec.origin(a)) / dx - shift)) + 1);
+    }
+    for (long k = lo[2]; k <= hi[2]; ++k)
+      for (long j = lo[1]; j <= hi[1]; ++j)
+        for (long i = lo[0]; i <= hi[0]; ++i)
+          if (!seen[flat(i, j, k)]) {
+            seen[flat(i, j, k)] = 1;
+            cells.push_back({i, j, k});
+          }
+  }
+  std::vector<double> add(vol.size(), 0.0);
+  const int nsub = d == 2 ? 8 : 3;
+  for (const auto& c : cells) {
+    const Vec3 q = node(c[0], c[1], c[2]);
+    Vec3 lo, hi;
+    const double box = cell(q, lo, hi);
+    double body = 0;
+    if (!body_part(lo, hi, box, body)) continue;
+    const int p = at[flat(c[0], c[1], c[2])];
+    if (p >= 0) {
+      vol[p] = body;
+      continue;
+    }
+    if (!(body > 0)) continue;
+    // Orphan: sub-cells to the nearest neighbouring point.
+    std::vector<int> nb;
+    for (long k = (d == 3 ? -1 : 0); k <= (d == 3 ? 1 : 0); ++k)
+      for (long j = -1; j <= 1; ++j)
+        for (long i = -1; i <= 1; ++i) {
+          const long a = c[0] + i, b = c[1] + j, e = c[2] + k;
+          if (a < 0 || b < 0 || e < 0 || a >= nl[0] || b >= nl[1] || e >= nl[2]) continue;
+          if (at[flat(a, b, e)] >= 0) nb.push_back(at[flat(a, b, e)]);
+        }
+    if (nb.empty()) continue;
+    const Vec3 step = (hi - lo) / nsub;
+    for (int sk = 0; sk < (d == 3 ? nsub : 1); ++sk)
+      for (int sj = 0; sj < nsub; ++sj)
+        for (int si = 0; si < nsub; ++si) {
+          Vec3 slo = lo + Vec3(si * step.x(), sj * step.y(), d == 3 ? sk * step.z() : 0.0);
+          Vec3 shi = lo + Vec3((si + 1) * step.x(), (sj + 1) * step.y(),
+                               d == 3 ? (sk + 1) * step.z() : 0.0);
+          double sbox = 1.0;
+          for (int a = 0; a < d; ++a) sbox *= shi(a) - slo(a);
+          double sbody = 0;
+          body_part(slo, shi, sbox, sbody);
+          if (!(sbody > 0)) continue;
+          Vec3 mid = 0.5 * (slo + shi);
+          if (d == 2) mid.z() = 0.0;
+          int best = nb[0];
+          for (int m : nb)
+            if ((x[m] - mid).squaredNorm() < (x[best] - mid).squaredNorm()) best = m;
+          add[best] += sbody;
+        }
+  }
+  for (std::size_t p = 0; p < vol.size(); ++p) vol[p] += add[p];
+}
+
 }  // namespace
 
 Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOptions& opt) {
@@ -274,6 +394,10 @@ Discretization Discretization::grid(const GridSpec& spec, const DiscretizationOp
         return static_cast<int>(h);
     return -1;
   };
+  if (spec.cut_cells) {
+    const std::array<long, 3> nl{n[0] + extra, n[1] + extra, d == 3 ? n[2] + extra : 1};
+    cut_cell_volumes(spec, exact, lattice, nl, shift, x, vol);
+  }
   std::vector<std::vector<int>> on_hole(nh);
   std::vector<Vec3> surf(x.size(), Vec3::Zero());
   for (std::size_t i = 0; i < x.size(); ++i)

@@ -34,6 +34,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 MU, KAPPA = 1.0, 10.0
+PLANE = "strain"  # or "stress" (--plane): P₃₃ = 0 by a local Newton on F₃₃, condensed tangent
 L, R, CX, CY = 1.0, 0.2, 0.5, 0.5
 D_FINAL, STEPS = 1.0, 20
 
@@ -68,6 +69,68 @@ def neo_hookean(F):
     return P, A
 
 
+def neo_hookean_3d(F):
+    """Full 3D compressible Neo-Hookean, F: (..., 3, 3). Returns P and A = ∂P/∂F (the same
+    formulas as neo_hookean with the 3×3 identity; tr C over all three axes)."""
+    J = np.linalg.det(F)
+    if np.any(J <= 0):
+        raise FloatingPointError("inverted element (J <= 0)")
+    H = np.swapaxes(np.linalg.inv(F), -1, -2)
+    I1 = np.einsum("...ij,...ij->...", F, F)
+    Jm23 = J ** (-2.0 / 3.0)
+    P = (MU * Jm23)[..., None, None] * (F - (I1 / 3.0)[..., None, None] * H) + \
+        (KAPPA / 4.0 * (J**2 - J**-2))[..., None, None] * H
+    eye = np.eye(3)
+    dd = np.einsum("ab,JL->aJbL", eye, eye)
+    HH = np.einsum("...aJ,...bL->...aJbL", H, H)
+    HHt = np.einsum("...aL,...bJ->...aJbL", H, H)
+    FH = np.einsum("...bL,...aJ->...aJbL", F, H)
+    HF = np.einsum("...bL,...aJ->...aJbL", H, F)
+    e = lambda s: s[..., None, None, None, None]
+    A = e(MU * Jm23) * (dd - 2.0 / 3.0 * (FH + HF) + e(2.0 / 9.0 * I1) * HH + e(I1 / 3.0) * HHt)
+    A += e(KAPPA / 2.0 * (J**2 + J**-2)) * HH - e(KAPPA / 4.0 * (J**2 - J**-2)) * HHt
+    return P, A
+
+
+def neo_hookean_plane_stress(F):
+    """Plane stress: F₃₃ = λ with P₃₃(F, λ) = 0 (Newton per point, from λ = 1/√det F2 … 1),
+    P = the in-plane block, A = A_ab − A_a33 A_33b / A_3333 (the condensed tangent)."""
+    shape = F.shape[:-2]
+    F3 = np.zeros(shape + (3, 3))
+    F3[..., :2, :2] = F
+    F3[..., 2, 2] = 1.0
+    for _ in range(60):
+        P3, A3 = neo_hookean_3d(F3)
+        step = P3[..., 2, 2] / A3[..., 2, 2, 2, 2]
+        lam = F3[..., 2, 2] - step
+        F3[..., 2, 2] = np.where(lam > 0, lam, 0.5 * F3[..., 2, 2])
+        if np.max(np.abs(step)) < 1e-15:
+            break
+    P3, A3 = neo_hookean_3d(F3)
+    if np.max(np.abs(P3[..., 2, 2])) > 1e-10 * max(1.0, np.abs(P3).max()):
+        raise FloatingPointError("plane stress: P33 = 0 not reached")
+    A = A3[..., :2, :2, :2, :2] - np.einsum("...aJ,...bL->...aJbL", A3[..., :2, :2, 2, 2],
+                                            A3[..., 2, 2, :2, :2]) / A3[..., 2, 2, 2, 2][..., None, None, None, None]
+    return P3[..., :2, :2], A
+
+
+def material(F):
+    return neo_hookean(F) if PLANE == "strain" else neo_hookean_plane_stress(F)
+
+
+def energy_plane_stress(F):
+    F3 = np.zeros(F.shape[:-2] + (3, 3)); F3[..., :2, :2] = F; F3[..., 2, 2] = 1.0
+    lo, hi = 1e-3, 1e3  # Ψ(λ) minimised by bisection on P₃₃ (independent of the Newton above)
+    for _ in range(200):
+        mid = np.sqrt(lo * hi)
+        F3[..., 2, 2] = mid
+        p33 = neo_hookean_3d(F3)[0][..., 2, 2]
+        lo, hi = (mid, hi) if p33 < 0 else (lo, mid)
+    J = np.linalg.det(F3)
+    I1 = np.einsum("...ij,...ij->...", F3, F3)
+    return MU / 2 * (J ** (-2 / 3) * I1 - 3) + KAPPA / 8 * (J - 1 / J) ** 2
+
+
 def energy(F):
     J = F[..., 0, 0] * F[..., 1, 1] - F[..., 0, 1] * F[..., 1, 0]
     I1 = np.einsum("...ij,...ij->...", F, F) + 1.0
@@ -81,14 +144,15 @@ def check_material():
         F = np.eye(2) + 0.6 * rng.standard_normal((2, 2))
         if np.linalg.det(F) <= 0.2:
             continue
-        P, A = neo_hookean(F)
+        P, A = material(F)
+        W = energy if PLANE == "strain" else energy_plane_stress
         h = 1e-6
         for b in range(2):
             for Lx in range(2):
                 dF = np.zeros((2, 2)); dF[b, Lx] = h
-                fd_p = (energy(F + dF) - energy(F - dF)) / (2 * h)
+                fd_p = (W(F + dF) - W(F - dF)) / (2 * h)
                 worst_p = max(worst_p, abs(fd_p - P[b, Lx]) / np.abs(P).max())
-                fd_a = (neo_hookean(F + dF)[0] - neo_hookean(F - dF)[0]) / (2 * h)
+                fd_a = (material(F + dF)[0] - material(F - dF)[0]) / (2 * h)
                 worst_a = max(worst_a, np.abs(fd_a - A[:, :, b, Lx]).max() / np.abs(A).max())
     print(f"material check: P vs FD(Ψ) {worst_p:.1e}, A vs FD(P) {worst_a:.1e}")
     return worst_p < 1e-7 and worst_a < 1e-7
@@ -167,7 +231,7 @@ class Model:
     def assemble(self, u):
         ue = u[self.dofs].reshape(-1, 6, 2)
         F = np.eye(2) + np.einsum("ena,eqnJ->eqaJ", ue, self.G)
-        P, A = neo_hookean(F)
+        P, A = material(F)
         re = np.einsum("eq,eqaJ,eqnJ->ena", self.w, P, self.G).reshape(-1, 12)
         Ke = np.einsum("eq,eqnJ,eqaJbL,eqmL->enamb", self.w, self.G, A, self.G).reshape(-1, 144)
         r = np.bincount(self.dofs.ravel(), re.ravel(), minlength=self.ndof)
@@ -319,7 +383,11 @@ def main():
     ap.add_argument("--base", type=int, default=6, help="coarsest nt (elements along the boundary); nr = nt/2")
     ap.add_argument("--csv", default=None)
     ap.add_argument("--check", action="store_true")
+    ap.add_argument("--bulk", type=float, default=10.0, help="bulk modulus K (mu = 1)")
+    ap.add_argument("--plane", choices=["strain", "stress"], default="strain")
     args = ap.parse_args()
+    global KAPPA, PLANE
+    KAPPA, PLANE = args.bulk, args.plane
     if not check_material():
         sys.exit("material tangent check failed")
     if args.check:
@@ -344,7 +412,7 @@ def main():
           f"{np.max(np.abs(r3[1:]-ext[1:])/np.abs(ext[1:])):.2e}")
     if args.csv:
         with open(args.csv, "w") as f:
-            f.write("# Plate with a hole, plane-strain compressible Neo-Hookean, mu=1, K=10, L=1, R=0.2,\n")
+            f.write(f"# Plate with a hole, plane-{PLANE} compressible Neo-Hookean, mu=1, K={KAPPA:g}, L=1, R=0.2,\n")
             f.write("# right edge u_x = d (u_y free), left edge u_x = 0 + pin, other edges free; unit thickness.\n")
             f.write(f"# Code: workflows/validation/plate_hole_fem.py (independent of pdcg): isoparametric P2 triangles,\n")
             f.write(f"#   total-Lagrangian Newton, quarter model by symmetry; numpy {np.__version__}, scipy {scipy.__version__}, python {sys.version.split()[0]}.\n")
@@ -352,7 +420,8 @@ def main():
                     "; ".join(f"{nt}x{nr}: {ne} elements, {nd} dofs" for nt, nr, ne, nd, _ in results) + "\n")
             f.write(f"# Columns: reaction on each mesh, and Richardson extrapolation of the last three with the observed order p = {p:.3f} (at d = 1).\n")
             f.write("# Regenerate: python3 workflows/validation/plate_hole_fem.py --levels "
-                    f"{args.levels} --base {args.base} --csv tests/data/plate_hole_fem.csv (or workflows/validation/run.sh)\n")
+                    f"{args.levels} --base {args.base}" + ("" if (PLANE, KAPPA) == ("strain", 10.0) else f" --plane {PLANE} --bulk {KAPPA:g}") +
+                    f" --csv {args.csv}" + (" (or workflows/validation/run.sh)" if (PLANE, KAPPA) == ("strain", 10.0) else "") + "\n")
             f.write("step,d," + ",".join(f"R_{nt}x{nr}" for nt, nr, *_ in results) + ",R_extrapolated\n")
             for k in range(STEPS + 1):
                 f.write(f"{k},{Rs[0][k] if False else results[0][4][k,0]:.6f}," +

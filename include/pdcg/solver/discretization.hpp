@@ -2,7 +2,8 @@
 /// Discretisation of a body for the bond-associated (BA) correspondence solver.
 ///
 /// Points x_i on a regular grid (cell centres, spacing Δx) with volumes
-/// V_i = Δx^d, horizon δ = m Δx (default m = 3.015), families
+/// V_i = Δx^d (next to a hole: the cut cell, GridSpec::cut_cells), horizon δ = m Δx (default m
+/// = 3.015), families
 ///   H_i = { j ≠ i : |x_j − x_i| ≤ δ, bond (i, j) not crossing a pre-crack }
 /// in CSR. Two kinds of gradient stencils are precomputed from the reference
 /// configuration (docs/theory.md §6):
@@ -75,6 +76,13 @@ struct GridSpec {
   double spacing = 0.025;
   std::vector<Hole> holes;
   std::vector<Crack> cracks;
+  /// Cut-cell volumes at the holes (docs/solver.md §2, "Cut-cell volumes"): a point whose
+  /// cell a hole cuts carries |cell ∩ body| instead of the whole cell, and the part of the
+  /// body in a cell whose centre lies in a hole (no point there) goes to the nearest points
+  /// of the neighbouring cells, so Σ V_i is the body's exact measure. Holes whose surface
+  /// vectors come from the true circle / sphere only (inside the box, disjoint from the
+  /// other holes); false: whole cells (the staircase volume).
+  bool cut_cells = true;
 };
 
 /// Compressed sparse rows of integers (families).
