@@ -22,7 +22,11 @@ each quad split into two curved P2 triangles whose mid-side nodes on the hole li
 circle. Refinement levels h, h/2, h/4, ...; Richardson extrapolation of the reaction with
 the observed order.
 
-Usage:  python3 plate_hole_fem.py [--levels 4] [--csv out.csv] [--check]
+Options --plane stress (P₃₃ = 0: F₃₃ from a Newton per quadrature point on the 3D energy, the
+condensed tangent; --check tests it against finite differences) and --bulk K change the
+problem; the defaults are the plane-strain K = 10 plate above.
+
+Usage:  python3 plate_hole_fem.py [--levels 4] [--csv out.csv] [--check] [--plane strain|stress] [--bulk K]
 """
 import argparse
 import sys

@@ -3,6 +3,8 @@
 # plate at several spacings, the comparison table and plot for docs/validation.md.
 #   workflows/validation/run.sh [OUT=build/validation]   (FEM_LEVELS=5 by default; ~20 min,
 #   SPACINGS="0.05 0.025 0.0125" by default: + ~10 min for the finest)
+# Plane stress / other bulk moduli: plate_hole_fem.py --plane stress --bulk K (references in
+# tests/data/plate_hole_fem_{strain,stress}_K*.csv; docs/validation.md §1).
 # Needs python3-numpy, python3-scipy, python3-matplotlib (Debian 12); installed when run as
 # root, else the apt-get line is printed.
 set -euo pipefail
