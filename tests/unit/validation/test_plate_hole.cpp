@@ -295,7 +295,8 @@ TEST(PlateWithHole, HoleClosureMatchesFemAndConverges) {
 #else
 // The hole closure of HoleClosureMatchesFemAndConverges one spacing further, Δx = 1/160
 // (≈ 1.5 min on the loaded 2-core machine; label `slow`): FEM (the same P2 48×24 solve,
-// evaluate() at (0.5, 0.703125) and (0.5, 0.296875)) −1.6212645445e-02. Measured −0.39% (the
+// evaluate() at (0.5, 0.703125) and (0.5, 0.296875)) −1.6212645445e-02. Measured −0.33% with
+// cut-cell volumes (docs/solver.md §2), −0.39% with whole cells (the
 // one-stress-per-point correction gave −0.31%: both forms reach the same value,
 // docs/solver.md §3, "Accuracy of the balanced correction").
 TEST(PlateWithHole, HoleClosureAtFineSpacingMatchesFem) {
