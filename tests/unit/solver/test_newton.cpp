@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "pdcg/core/error.hpp"
-#include "pdcg/core/log.hpp"
 #include "pdcg/solver/newton.hpp"
 #include "pdcg_test.hpp"
 
