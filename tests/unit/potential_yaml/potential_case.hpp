@@ -20,6 +20,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "pdcg/atomistic/configurations.hpp"
@@ -91,14 +92,16 @@ inline YAML::Node need(const YAML::Node& node, const std::string& key, const std
   return node[key];
 }
 
+/// node as T; a malformed value names the file and the key.
 template <class T>
 T as(const YAML::Node& node, const std::string& key, const std::string& path) {
   try {
     return node.as<T>();
   } catch (const YAML::Exception& e) {
-    throw bad(
-        path, key,
-        fmt::format("not a {}: {}", typeid(T) == typeid(double) ? "number" : "value", e.what()));
+    const char* kind = std::is_floating_point_v<T> ? "a number"
+                       : std::is_integral_v<T>     ? "an integer"
+                                                   : "a string";
+    throw bad(path, key, fmt::format("expected {}: {}", kind, e.what()));
   }
 }
 
