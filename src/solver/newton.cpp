@@ -4,6 +4,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <set>
@@ -388,6 +389,22 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     if (dist) return distributed_ok(*dist, ok) && (dist->sum(f), true);
     return ok;
   };
+  // The converged state: u, f and (check_stability) the inertia of K at u.
+  const auto accept = [&](int it, double rnorm) {
+    rep.iterations = it;
+    rep.residual = rnorm;
+    u_ = u;
+    f_ = f;
+    if (opt_.check_stability) {
+      Eigen::VectorXd ftmp;  // matrix-free: K assembled for the inertia only
+      if (mf && !model_->internal_force_and_tangent(u, ftmp, K_)) return false;
+      rep.negative_eigenvalues = tangent_inertia();  // K_ is at u
+    }
+    return true;
+  };
+  // The increments of the last 8 iterations (the window of the stagnation rule), ring.
+  std::array<double, 8> increments;
+  increments.fill(INFINITY);
   for (int it = 0; it < opt_.max_iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!evaluate() && !(inadmissible_ && inadmissible_(u) && evaluate())) return false;
@@ -407,6 +424,21 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     // Stagnation or divergence: Newton near a solution gains orders of magnitude
     // within a few iterations; give the step back for a cutback early.
     if (it >= 10 && !(rnorm < 0.5 * rep.residual_history[it - 8])) {
+      // Round-off floor (docs/solver.md §4, "Round-off floor"): the residual can fall no
+      // further when the state no longer moves — every increment of the last 8 iterations
+      // below the increment tolerance — and the residual is within kRoundoffResidualFactor
+      // of the tolerance: it is the summation noise of the forces (a separated body's, whose
+      // forces are round-off), not a distance to equilibrium.
+      const double inc_tol = opt_.tolerance * std::max(u.norm(), dx_scale);
+      const double recent_inc = *std::max_element(increments.begin(), increments.end());
+      if (recent_inc <= inc_tol && rnorm <= kRoundoffResidualFactor * opt_.tolerance) {
+        log::debug(
+            "Newton: residual {:.3e} at its round-off floor after {} iterations "
+            "(tolerance {:.1e}; increments ≤ {:.2e}, tolerance {:.2e}): accepted",
+            rnorm, it, opt_.tolerance, recent_inc, inc_tol);
+        rep.roundoff_floor = true;
+        return accept(it, rnorm);
+      }
       log::debug("Newton stagnates (residual {:.3e} after {} iterations)", rnorm, it);
       return false;
     }
@@ -443,17 +475,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
       }
     } else if (it > 0 && rnorm <= opt_.tolerance &&
                last_inc <= opt_.tolerance * std::max(u.norm(), dx_scale)) {
-      // converged on the residual and on the last increment
-      rep.iterations = it;
-      rep.residual = rnorm;
-      u_ = u;
-      f_ = f;
-      if (opt_.check_stability) {
-        Eigen::VectorXd ftmp;  // matrix-free: K assembled for the inertia only
-        if (mf && !model_->internal_force_and_tangent(u, ftmp, K_)) return false;
-        rep.negative_eigenvalues = tangent_inertia();  // K_ is at u
-      }
-      return true;
+      return accept(it, rnorm);  // converged on the residual and on the last increment
     }
     // Linear solve, through the seam (linear_solver.hpp).
     LinearSystemSolver& linear = *S.linear;
@@ -541,6 +563,7 @@ bool StaticSolver::newton(double t_target, StepReport& rep) {
     log::debug("  iteration {}: residual {:.3e}, increment {:.3e}, alpha {}", it, rnorm, inc,
                alpha);
     last_inc = inc;
+    increments[static_cast<std::size_t>(it) % increments.size()] = inc;
   }
   return false;
 }
@@ -617,9 +640,10 @@ void StaticSolver::advance_to(double t_end, const std::function<void(const StepR
     rep.cutbacks = cutbacks;
     rep.balance = force_balance();
     log::info(
-        "step {} t = {:.6g}: {} Newton iterations, residual {:.3e} (history {:.2e}); "
+        "step {} t = {:.6g}: {} Newton iterations, residual {:.3e}{} (history {:.2e}); "
         "force balance {:.2e} of the load; assembly {:.2f} s, linear solve {:.2f} s",
-        rep.step, t_, rep.iterations, rep.residual, fmt::join(rep.residual_history, " "),
+        rep.step, t_, rep.iterations, rep.residual,
+        rep.roundoff_floor ? " (at its round-off floor)" : "", fmt::join(rep.residual_history, " "),
         rep.balance, rep.assembly_seconds, rep.solve_seconds);
     if (on_step) on_step(rep);
     if (dt < nominal) dt = std::min(nominal, 2 * dt);  // recover after a successful step

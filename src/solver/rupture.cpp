@@ -824,7 +824,8 @@ std::size_t Rupture::stagger(StaticSolver& solver) {
         "broke and {} point stencils went off when their stencils inverted during it; {:.2f} s)",
         pass_no, solver.load_factor(), p.broken, body_->broken_bonds(), to_string(opt_.criterion),
         p.max_value, opt_.critical, p.inverted, p.rebuilt, body_->suppressed_stencils(), p.anchored,
-        fragment_points_, free_fragments_, pinned_pieces_, ok ? "converged" : "FAILED",
+        fragment_points_, free_fragments_, pinned_pieces_,
+        ok ? (rep.roundoff_floor ? "converged at the round-off floor" : "converged") : "FAILED",
         rep.iterations, rep.residual_history.empty() ? NAN : rep.residual_history.back(),
         ok ? solver.force_balance() : NAN, during, during_points,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_pass).count());

@@ -17,6 +17,14 @@ The reference is LAMMPS's alone: nothing of pdcg runs here. Run it after changin
 inputs, or to check a new LAMMPS (a changed reference is then a finding):
 
     /usr/bin/python3 tests/potentials/generate.py [FILE.yaml ...]    (default: every file)
+
+It is deterministic: the atoms come from LAMMPS commands with fixed seeds (`displace_atoms …
+random … SEED`, `set … type/fraction … SEED`), one process. `--check` recomputes every file
+and compares with what it stores, writing nothing: the data must be identical and every
+reference number equal to 1e-13 relative to the largest entry of its quantity (a run of the
+same LAMMPS reproduces them bit for bit; exit 1 otherwise):
+
+    /usr/bin/python3 tests/potentials/generate.py --check [FILE.yaml ...]
 """
 import datetime
 import glob
@@ -101,13 +109,48 @@ def reference(case):
     }
 
 
+def check(path, case, data, ref):
+    """Differences between a recomputed reference and the stored one (empty: none)."""
+    problems = []
+    if data != case["data"]:
+        problems.append("data differs")
+    old = case["reference"]
+    if old["natoms"] != ref["natoms"]:
+        return problems + [f"natoms {old['natoms']} stored, {ref['natoms']} now"]
+    worst = {}
+    for key, cols in (("forces", slice(1, 4)), ("per_atom_energy", slice(1, 2))):
+        a = [v for row in old[key] for v in row[cols]]
+        b = [v for row in ref[key] for v in row[cols]]
+        if [row[0] for row in old[key]] != [row[0] for row in ref[key]]:
+            problems.append(f"{key}: atom ids differ")
+        worst[key] = (a, b)
+    worst["energy"] = ([old["energy"]], [ref["energy"]])
+    worst["virial"] = (old["virial"], ref["virial"])
+    for key, (a, b) in worst.items():
+        scale = max(abs(v) for v in a) or 1.0
+        err = max(abs(x - y) for x, y in zip(a, b)) / scale
+        print(f"  {os.path.basename(path)}: {key} recomputed, max relative change {err:.1e}")
+        if err > 1e-13:
+            problems.append(f"{key} changed by {err:.2e} relative")
+    return problems
+
+
 def main(paths):
     here = os.path.dirname(os.path.abspath(__file__))
+    check_only = "--check" in paths
+    paths = [p for p in paths if p != "--check"]
     paths = paths or sorted(glob.glob(os.path.join(here, "*.yaml")))
+    failed = []
     for path in paths:
         with open(path) as fh:
             case = yaml.safe_load(fh)
         data, ref = reference(case)
+        if check_only:
+            problems = check(path, case, data, ref)
+            if problems:
+                failed.append(path)
+                print(f"FAIL {os.path.basename(path)}: " + "; ".join(problems))
+            continue
         out = {k: case[k] for k in ("style", "description", "engine", "epsilon", "epsilon_reason")
                if k in case}
         out["commands"] = Literal(case["commands"].rstrip("\n") + "\n")
@@ -123,6 +166,8 @@ def main(paths):
             yaml.safe_dump(out, fh, sort_keys=False, width=100)
         os.replace(tmp, path)
         print(f"{os.path.basename(path)}: {ref['natoms']} atoms, energy {ref['energy']:.12g}")
+    if failed:
+        sys.exit(f"{len(failed)} file(s) differ from a new LAMMPS run: {', '.join(failed)}")
 
 
 if __name__ == "__main__":

@@ -132,6 +132,13 @@ struct NewtonOptions {
   std::shared_ptr<Distribution> distribution = {};
 };
 
+/// Newton's round-off floor (StaticSolver::newton; docs/solver.md §4, "Round-off floor"): a
+/// Newton solve whose residual stagnates within this factor of the tolerance while the state no
+/// longer moves (every increment of the last 8 iterations below the increment tolerance) is
+/// accepted. Reason for 10: a separated sheet's forces are round-off, and its residual
+/// measured 0.95–1.1e-8 (1e-4 force floor, tolerance 1e-8) at increments of 2e-12 of ‖u‖.
+inline constexpr double kRoundoffResidualFactor = 10.0;
+
 struct StepReport {
   int step = 0;    ///< converged step number (1, 2, …)
   double t = 0.0;  ///< load factor
@@ -140,6 +147,10 @@ struct StepReport {
   std::vector<double> residual_history;
   int cutbacks = 0;               ///< cutbacks spent on this step
   bool stalled = false;           ///< pseudo_transient: stopped by its stall rule
+  /// Newton: accepted at the round-off floor of the residual (StaticSolver::newton, "Round-off
+  /// floor"): it stagnated within kRoundoffResidualFactor of the tolerance while every
+  /// increment of the last 8 iterations was below the increment tolerance.
+  bool roundoff_floor = false;
   double assembly_seconds = 0.0;  ///< residual + tangent assembly, summed over iterations
   double solve_seconds = 0.0;     ///< reduction + linear solve, summed over iterations
   double factor_seconds = 0.0;    ///< of which: (symbolic +) numeric factorisation

@@ -102,3 +102,72 @@ TEST(Newton, RigidBodyConstraintMissing) {
     EXPECT_NE(std::string(e.what()).find("no displacement constraint in y"), std::string::npos);
   }
 }
+
+namespace {
+// Two pieces: a unit sheet cut through by a crack on x = 0.5, the left edge held, the right
+// edge moved rigidly along x by 0.1 t: every internal force is round-off at any load.
+struct CutSheet {
+  Discretization body;
+  std::vector<DisplacementSet> sets;
+};
+CutSheet cut_sheet() {
+  GridSpec g;
+  g.spacing = 0.1;
+  g.cracks = {Crack{Vec3(0.5, -0.1, 0), Vec3(0.5, 1.1, 0)}};
+  CutSheet s{Discretization::grid(g), {}};
+  DisplacementSet left{"left", {}, {}}, right{"right", {}, {}};
+  left.component[0] = left.component[1] = [](double) { return 0.0; };
+  right.component[0] = [](double t) { return 0.1 * t; };
+  right.component[1] = [](double) { return 0.0; };
+  for (std::size_t i = 0; i < s.body.size(); ++i) {
+    const double x = s.body.positions()[i].x();
+    if (x < g.spacing) left.points.push_back(i);
+    if (x > 1 - g.spacing) right.points.push_back(i);
+  }
+  s.sets = {left, right};
+  return s;
+}
+}  // namespace
+
+// Round-off floor (docs/solver.md §4, "Round-off floor"): a body cut in two whose pieces are moved rigidly by
+// their grips has round-off internal forces; with a force floor f₀ its relative residual is
+// that noise over f₀ and Newton cannot lower it. Measured noise: ‖R‖ ≈ 7e-16 at the first
+// iterations, drifting up ≈ 3× over 9 iterations of round-off increments (1–2e-15).
+// f₀ = 5e-8: residual ≈ 1.4e-8 … 4e-8 > the tolerance 1e-8 but within 10× — accepted at the
+// floor, and the state is the closed form (the right piece translated by 0.1, the left at
+// rest); f₀ = 1e-9: ≈ 7e-7 … 2e-6, 70–200× the tolerance — refused, as before the rule;
+// f₀ = 1e-6: ≈ 7e-10, below the tolerance — the ordinary convergence test, no floor.
+TEST(Newton, RoundoffFloorAcceptsOnlyNoiseNearTheTolerance) {
+  const auto solve = [](double floor, StepReport& out) {
+    auto s = cut_sheet();
+    NeoHookeanPlaneStress mat({1.0, 10.0});
+    Model M(s.body, mat);
+    NewtonOptions o;
+    o.steps = 1;
+    o.tolerance = 1e-8;
+    o.max_cutbacks = 0;
+    StaticSolver solver(M, s.sets, {}, o);
+    solver.set_force_floor(floor);
+    solver.run([&](const StepReport& r) { out = r; });
+    double err = 0;  // the closed form: u = (0.1, 0) right of the cut, 0 left of it
+    for (std::size_t k = 0; k < s.body.size(); ++k) {
+      const double ux = s.body.positions()[k].x() > 0.5 ? 0.1 : 0.0;
+      err = std::max(
+          err,
+          (solver.displacement().segment<2>(2 * k) - Eigen::Vector2d(ux, 0)).cwiseAbs().maxCoeff());
+    }
+    return err;
+  };
+  StepReport r;
+  const double err = solve(5e-8, r);
+  EXPECT_TRUE(r.roundoff_floor);
+  EXPECT_GT(r.residual, 1e-8) << "the noise must sit above the tolerance for this check";
+  EXPECT_LE(r.residual, kRoundoffResidualFactor * 1e-8);
+  EXPECT_LT(err, 1e-12);  // round-off increments of 1e-15 from the exact rigid motion
+  StepReport ordinary;
+  EXPECT_LT(solve(1e-6, ordinary), 1e-12);
+  EXPECT_FALSE(ordinary.roundoff_floor);
+  EXPECT_LE(ordinary.residual, 1e-8);
+  StepReport refused;
+  EXPECT_THROW(solve(1e-9, refused), pdcg::NumericalError);
+}
