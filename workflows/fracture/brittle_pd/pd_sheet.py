@@ -2,7 +2,7 @@
 """PD counterpart of the brittle MD sheet (docs/fracture.md §7.6): scene writer and analysis.
 
   pd_sheet.py scene SYSDIR RUNDIR --n N [--m M] [--notch Q] [--rule brittle|soft] [--rho R]
-                    [--strain-max S] [--steps K]
+                    [--strain-max S] [--steps K] [--tip-factor F]
       writes RUNDIR/sheet.yaml and RUNDIR/info.json
   pd_sheet.py analyze RUNDIR [--reference CSV]
       reads RUNDIR/reactions.csv and the results_*.h5 files, writes RUNDIR/analysis.json and
@@ -59,10 +59,13 @@ def scene(o):
                  f"{(smax - e1) * L0:.15g}*(({K}*t - 1) + abs({K}*t - 1))/(2*{K - 1})")
     else:
         ydisp = f"{smax * L0:.15g}*t"
+    # tip calibration (docs/fracture.md §7.6b): the rule gets G_c / f, f the G/G_c at which the
+    # uncalibrated rule initiates a sharp pre-crack in the Williams K-field (§5.3); 1 = none
+    Grule = Gc / o.tip_factor
     if o.rule == "brittle":
-        rule = f"{{criterion: fracture_energy, G_c: {Gc:.15g}}}"
+        rule = f"{{criterion: fracture_energy, G_c: {Grule:.15g}}}"
     else:
-        rule = (f"{{criterion: fracture_energy, G_c: {Gc:.15g}, softening: linear, "
+        rule = (f"{{criterion: fracture_energy, G_c: {Grule:.15g}, softening: linear, "
                 f"elastic_limit: {o.rho:g}, damage_tolerance: {o.damage_tolerance:g}, "
                 f"max_passes: {o.max_passes}}}")
     text = f"""# PD counterpart of the brittle MD sheet lj15 W = 100 a0 (written by pd_sheet.py; docs/fracture.md §7.6)
@@ -89,7 +92,7 @@ output: {{directory: pd, every: 1}}
 """
     os.makedirs(o.rundir, exist_ok=True)
     open(os.path.join(o.rundir, "sheet.yaml"), "w").write(text)
-    info = dict(a0=a0, G_c=Gc, W=W, H=H, H_md=H_md, dx=dx, n=o.n, rows=rows, L0=L0, L0_md=(2 * ny - 2) * h,
+    info = dict(a0=a0, G_c=Gc, tip_factor=o.tip_factor, G_c_rule=Grule, W=W, H=H, H_md=H_md, dx=dx, n=o.n, rows=rows, L0=L0, L0_md=(2 * ny - 2) * h,
                 a=a, notch_cells=a / dx, m=o.m, delta=o.m * dx, rule=o.rule,
                 rho=o.rho if o.rule == "soft" else None,
                 damage_tolerance=o.damage_tolerance if o.rule == "soft" else None, strain_max=smax, strain_start=e1, steps=o.steps,
@@ -207,6 +210,8 @@ def main():
     s.add_argument("--damage-tolerance", type=float, default=0.01,
                    help="softening: repeat the staggered pass while a pair's damage grew by more")
     s.add_argument("--max-passes", type=int, default=2000, help="softening: staggered passes per step")
+    s.add_argument("--tip-factor", type=float, default=1.0,
+                   help="the rule gets G_c / this (tip calibration, docs/fracture.md §7.6b; 1: none)")
     s.add_argument("--strain-max", type=float, default=0.06)
     s.add_argument("--steps", type=int, default=60)
     s.add_argument("--strain-start", type=float, default=0.0,

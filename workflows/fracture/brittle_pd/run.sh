@@ -13,6 +13,7 @@
 #   -c "CASE.." cases, each n:m:notch:rule[:rho] (rule brittle|soft), default "40:3.015:0.2:brittle"
 #   -e S        strain at the end of loading (default 0.045), -k K load steps (default 90: 0.0005 each)
 #   -s S0       first load step straight to strain S0 (default 0: K equal steps), then K - 1 to S
+#   -f F        tip calibration: the rule gets G_c / F (fracture.md §7.6b; default 1: none)
 #   -t SEC      wall-time limit per PD run (default 1200 s; the run is stopped there and
 #               analysed from what it wrote: the steps before an unstable pass)
 # Writes OUT/summary.csv (one row per case in OUT, this call's and earlier ones: pd_sheet.py analyze).
@@ -26,7 +27,8 @@ smax=0.045
 steps=90
 start0=0
 limit=1200
-while getopts "p:o:c:e:k:s:t:h" opt; do
+tipf=1
+while getopts "p:o:c:e:k:s:t:f:h" opt; do
   case $opt in
     p) pdcg=$OPTARG ;;
     o) out=$OPTARG ;;
@@ -35,7 +37,8 @@ while getopts "p:o:c:e:k:s:t:h" opt; do
     k) steps=$OPTARG ;;
     s) start0=$OPTARG ;;
     t) limit=$OPTARG ;;
-    *) sed -n '2,19p' "$0"; exit 2 ;;
+    f) tipf=$OPTARG ;;
+    *) sed -n '2,20p' "$0"; exit 2 ;;
   esac
 done
 command -v lmp > /dev/null || { echo "run.sh: LAMMPS executable 'lmp' not found (Debian: apt install lammps)" >&2; exit 2; }
@@ -72,10 +75,10 @@ PY
 for cs in $cases; do
   IFS=: read -r n m q rule rho <<< "$cs"
   rho=${rho:-0.1}
-  name=n${n}_m${m}_a${q}_${rule}$([ "$rule" = soft ] && echo "_rho$rho" || true)
+  name=n${n}_m${m}_a${q}_${rule}$([ "$rule" = soft ] && echo "_rho$rho" || true)$([ "$tipf" = 1 ] || echo "_f$tipf")
   run=$out/$name
   "$py" "$here/pd_sheet.py" scene "$sys" "$run" --n "$n" --m "$m" --notch "$q" --rule "$rule" \
-    --rho "$rho" --strain-max "$smax" --steps "$steps" --strain-start "$start0"
+    --rho "$rho" --strain-max "$smax" --steps "$steps" --strain-start "$start0" --tip-factor "$tipf"
   start=$(date +%s)
   rc=0
   (cd "$run" && OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} nice -n 10 "$py" "$src/workflows/quickstart/timed.py" \
