@@ -171,9 +171,10 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
     // (refused here, with the line; `relaxed` also refuses a model without a bulk crystal)
     try {
       body::CauchyBorn probe(*b,
-                           s.material_ion_relaxation == "relaxed" ? body::IonRelaxation::relaxed
-                                                                  : body::IonRelaxation::automatic,
-                           true);
+                             s.material_ion_relaxation == "relaxed"
+                                 ? body::IonRelaxation::relaxed
+                                 : body::IonRelaxation::automatic,
+                             true);
       (void)probe;
     } catch (InputError& e) {
       const auto& at = m["ion_relaxation"] ? m["ion_relaxation"] : m["per_point"];

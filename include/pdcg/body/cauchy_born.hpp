@@ -100,9 +100,9 @@ class CauchyBorn {
   ///   E_p(F) = Σ_k w_kp ψ_k(Fξ_b + s*_{c(j)} − s*_{c(k)}),
   ///   ∂E_p/∂F = ∂_F E_p + ∂_s E_p · S,  S = ds*/dF = −W_ss⁻¹ W_sF (bulk),
   ///   ∂²E_p/∂F∂F = E_FF + E_Fs S + Sᵀ E_sF + Sᵀ E_ss S + ∂_s E_p · dS/dF,
-  /// dS/dF by central differences (step kPointShiftStep) of the analytic S; `shift` of the
-  /// result holds s*(F). A material constructed without `per_point` whose evaluate() relaxes
-  /// (relaxing()) throws InputError here.
+  /// dS/dF by central differences (step kPointShiftStep, shifts linearised) of the analytic S,
+  /// that term symmetrised (its exact value is); `shift` of the result holds s*(F). A material
+  /// constructed without `per_point` whose evaluate() relaxes (relaxing()) throws InputError here.
   std::size_t point_count() const { return pt_offset_.size() - 1; }
   CauchyBornState point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent = true) const;
   /// point_sum relaxes the sublattices with the bulk's shifts (per_point construction, mode not
@@ -163,7 +163,7 @@ class CauchyBorn {
   std::vector<std::int32_t> sub_;        ///< per atom: bulk sublattice (per-point relaxation)
   std::vector<std::int32_t> bond_site_;  ///< per bond: the partner's sublattice
   std::vector<std::int32_t> bulk_rep_;   ///< one interior atom per bulk sublattice
-  std::uint64_t id_ = 0;  ///< unique per object: key of the thread-local warm start
+  std::uint64_t id_ = 0;                 ///< unique per object: key of the thread-local warm start
   std::vector<std::int64_t> rep_sub_offset_;  ///< per class slot: CSR into rep_sub_
   std::vector<std::int32_t> rep_sub_;  ///< [own site, site of each family member …] per slot
   std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class

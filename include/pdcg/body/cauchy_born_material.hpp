@@ -191,8 +191,7 @@ class QuasiHarmonicCauchyBornMaterial final : public solver::Material {
 class PerPointCauchyBornMaterial final : public solver::Material {
  public:
   PerPointCauchyBornMaterial(std::shared_ptr<const Body> body, std::vector<double> volume,
-                             std::string source = {},
-                             IonRelaxation ion = IonRelaxation::automatic)
+                             std::string source = {}, IonRelaxation ion = IonRelaxation::automatic)
       : body_(std::move(body)),
         cb_(std::make_shared<CauchyBorn>(*body_, ion, true)),
         volume_(std::make_shared<const std::vector<double>>(std::move(volume))),

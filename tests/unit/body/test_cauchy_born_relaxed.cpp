@@ -56,7 +56,7 @@ Atoms cubic_crystal(int n, double a, const std::vector<Eigen::Vector3d>& basis,
 Atoms diamond(int n, double a) {
   std::vector<Eigen::Vector3d> b;
   for (const Eigen::Vector3d& f : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 0.5, 0),
-                                  Eigen::Vector3d(0.5, 0, 0.5), Eigen::Vector3d(0, 0.5, 0.5)}) {
+                                   Eigen::Vector3d(0.5, 0, 0.5), Eigen::Vector3d(0, 0.5, 0.5)}) {
     b.push_back(f);
     b.push_back(f + Eigen::Vector3d(0.25, 0.25, 0.25));
   }

@@ -406,9 +406,8 @@ output: {{directory: out, every: 1}}
     F << 1.004, 0.006, -0.003, 0.002, 0.997, 0.005, -0.004, 0.001, 1.003;
     solver::Mat3 P;
     ASSERT_TRUE(mat->evaluate_at(0, F, nullptr, &P, nullptr));
-    const body::CauchyBorn ref(bar, k == 0 ? body::IonRelaxation::automatic
-                                           : body::IonRelaxation::clamped,
-                               true);
+    const body::CauchyBorn ref(
+        bar, k == 0 ? body::IonRelaxation::automatic : body::IonRelaxation::clamped, true);
     const Eigen::Matrix3d Pref = ref.point_sum(0, F, false).P / s.model_geometry->cloud.volume[0];
     EXPECT_LE((P - Pref).norm(), 1e-12 * Pref.norm()) << extra;  // same code path: round-off
     const fs::path out = kDir / fmt::format("si_bar_out{}", k);
@@ -419,11 +418,75 @@ output: {{directory: out, every: 1}}
     ASSERT_GE(r.size(), 8u);
     R[k++] = r[6];
   }
-  std::printf("  Si bar (%zu atoms), shear %.2f: right-end y reaction relaxed %.6g, clamped %.6g eV/Å (ratio %.3f)\n",
-              bar.size(), gamma, R[0], R[1], R[0] / R[1]);
+  std::printf(
+      "  Si bar (%zu atoms), shear %.2f: right-end y reaction relaxed %.6g, clamped %.6g eV/Å "
+      "(ratio %.3f)\n",
+      bar.size(), gamma, R[0], R[1], R[0] / R[1]);
   EXPECT_GT(R[0], 0.0);
   EXPECT_GT(R[1], 0.0);
   // relaxed sublattices soften shear (C44 10 vs 92 GPa); bending and the free ends share the
   // load, so the ratio lies between 0.11 and 1
   EXPECT_LT(R[0], 0.95 * R[1]);
+}
+
+// A Si slab (2 × 2 × 4 cells, free along z) with one surface atom moved off its lattice site:
+// per_point with the default (relaxed) ion relaxation is refused at load time with the line of
+// `per_point` (or of `ion_relaxation` when given) and the fix; `ion_relaxation: clamped` loads.
+TEST(PerPointCauchyBorn, AtomOffTheLatticeIsRefusedWithTheLine) {
+  const auto path = atomistic::find_potential_file("Si.sw");
+  if (!path) GTEST_SKIP() << "Si.sw not found (LAMMPS potentials)";
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units metal\nmass 1 28.0855\npair_style sw\npair_coeff * * " + *path + " Si\n", "si", 1);
+  const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  const double a = 5.431, vac = 8.0;
+  atomistic::Atoms at;
+  at.box.hi = {2 * a, 2 * a, 4 * a + 2 * vac};
+  at.box.periodic = {true, true, false};
+  std::int64_t id = 0;
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 4; ++k)
+        for (const Eigen::Vector3d& f :
+             {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 0.5, 0), Eigen::Vector3d(0.5, 0, 0.5),
+              Eigen::Vector3d(0, 0.5, 0.5)})
+          for (const double q : {0.0, 0.25}) {
+            const Eigen::Vector3d x = (Eigen::Vector3d(i, j, k) + f + Eigen::Vector3d(q, q, q)) * a;
+            at.id.push_back(++id);
+            at.type.push_back(1);
+            at.x.insert(at.x.end(), {x[0], x[1], x[2] + vac});
+          }
+  at.x[0] += 0.31;  // atom 1 (z = vac: on the lower surface) off its site
+  fs::create_directories(kDir);
+  body::write_body(
+      body::make_delta_body(at, pot, spec, {.dimension = 3, .cutoff = 0.0, .source = "si-slab"}),
+      kDir / "si_off.h5");
+  auto text = [](const std::string& extra) {
+    return "dimension: 3\n"
+           "geometry: {shape: model, file: si_off.h5}\n"
+           "material: {model: cauchy-born, file: si_off.h5,\n"
+           "           per_point: true" +
+           extra +
+           "}\n"
+           "boundary:\n  - {name: left, region: {x_max: 0.5}, displacement: {x: 0.0}}\n";
+  };
+  auto error_of = [&](const std::string& t) -> std::string {
+    std::ofstream(kDir / "si_off.yaml") << t;
+    try {
+      scene::load_scene(kDir / "si_off.yaml");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  for (const std::string extra : {"", ", ion_relaxation: relaxed"}) {
+    const std::string m = error_of(text(extra));
+    EXPECT_NE(m.find("cannot be assigned to the sublattices"), std::string::npos) << m;
+    EXPECT_NE(m.find("ion_relaxation: clamped"), std::string::npos) << m;
+    EXPECT_NE(m.find("atom id 1 "), std::string::npos) << m;
+    // per_point's / ion_relaxation's line
+    EXPECT_TRUE(m.find("si_off.yaml:4") != std::string::npos ||
+                m.find("line 4") != std::string::npos)
+        << m;
+  }
+  EXPECT_EQ(error_of(text(", ion_relaxation: clamped")), "(no error)");
 }
