@@ -426,7 +426,8 @@ int CauchyBorn::relax(bool bulk, const Eigen::Matrix3d& F, Relaxation& r) const 
   const std::uint64_t key = 2 * id_ + (bulk ? 1 : 0);  // the body's set and the bulk's apart
   r.shift.assign(m, 0.0);
   r.probe.resize(m);
-  if (warm_id == key && warm.size() == m) r.shift = warm;
+  const bool warmed = warm_id == key && warm.size() == m;
+  if (warmed) r.shift = warm;
   r.H.resize(nf, nf);
   r.g.resize(nf);
   r.step.resize(nf);
@@ -442,59 +443,78 @@ int CauchyBorn::relax(bool bulk, const Eigen::Matrix3d& F, Relaxation& r) const 
   int it = 0;
   double lmin = 0, lmax = 0;
   bool final_step = false;
-  for (;; ++it) {
-    relaxed_sums(bulk, F, shift.data(), true, scratch, sums);
-    for (int i = 0; i < nf; ++i) {
-      g(i) = sums.g[r.free_index(i)];
-      for (int c = 0; c < nf; ++c) H(i, c) = sums.Ass[r.free_index(i) * m + r.free_index(c)];
+  for (int attempt = 0;; ++attempt) try {
+      it = 0;
+      final_step = false;
+      for (;; ++it) {
+        relaxed_sums(bulk, F, shift.data(), true, scratch, sums);
+        for (int i = 0; i < nf; ++i) {
+          g(i) = sums.g[r.free_index(i)];
+          for (int c = 0; c < nf; ++c) H(i, c) = sums.Ass[r.free_index(i) * m + r.free_index(c)];
+        }
+        if (!std::isfinite(sums.E) || !g.allFinite() || !H.allFinite())
+          throw NumericalError(fmt::format(
+              "inner relaxation of the Cauchy–Born material: non-finite energy or force at F = "
+              "[{}] "
+              "after {} Newton steps (atoms too close or beyond the potential's tables); use a "
+              "smaller deformation or the clamped-ion material (`pdcg elastic --clamped-ion`)",
+              matrix_text(F), it));
+        es.compute(H);
+        if (es.eigenvalues().cwiseAbs().maxCoeff() == 0.0)
+          throw NumericalError(fmt::format(
+              "inner relaxation of the Cauchy–Born material at F = [{}]: the sublattices do not "
+              "interact (W_ss = 0: atoms beyond the potential's cutoff); use a smaller "
+              "deformation or the clamped-ion material (`pdcg elastic --clamped-ion`)",
+              matrix_text(F)));
+        lmin = es.eigenvalues()(0);
+        lmax = std::max(std::abs(es.eigenvalues()(nf - 1)), 1e-300);
+        // Newton step on a positive definite W_ss; otherwise (not a minimum here) the step of the
+        // eigenvalues' magnitudes, floored at 1e-8·max (a descent direction), with the line search
+        const Eigen::VectorXd lam =
+            es.eigenvalues().cwiseAbs().cwiseMax(lmin > 1e-10 * lmax ? 0.0 : 1e-8 * lmax);
+        step = -es.eigenvectors() * (es.eigenvectors().transpose() * g).cwiseQuotient(lam);
+        // converged: W_ss positive definite and the Newton step ≤ 1e-10 d_nn — it is taken (no line
+        // search) and the state evaluated there; quadratic convergence leaves ~(1e-10)² d_nn, far
+        // below the round-off floor of the shifts (~1e-15 d_nn)
+        if (lmin > 1e-10 * lmax && step.cwiseAbs().maxCoeff() <= 1e-10 * length) {
+          if (final_step || step.cwiseAbs().maxCoeff() <= 1e-14 * length) break;  // (round-off)
+          final_step = true;
+          for (int f = 0; f < nf; ++f) shift[r.free_index(f)] += step(f);
+          continue;
+        }
+        final_step = false;
+        if (it >= max_iterations)
+          throw NumericalError(fmt::format(
+              "inner relaxation of the Cauchy–Born material did not converge at F = [{}]: {} "
+              "Newton "
+              "steps, last step {:.3g} (nearest-neighbour distance {:.6g}), smallest eigenvalue of "
+              "W_ss {:.3g} (largest {:.3g}; ≤ 0: the basis is unstable at this F, the crystal "
+              "would "
+              "transform). Use a smaller deformation, or the clamped-ion material "
+              "(`pdcg elastic --clamped-ion`)",
+              matrix_text(F), it, step.cwiseAbs().maxCoeff(), length, lmin, lmax));
+        // backtracking line search on the energy (Armijo 1e-4; the 1e-13·|E| allowance is the
+        // round-off of the energy sum, reached only in the quadratic regime where the full step
+        // is right)
+        const double slope = g.dot(step);
+        double alpha = 1.0;
+        for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
+          probe = shift;
+          for (int f = 0; f < nf; ++f) probe[r.free_index(f)] += alpha * step(f);
+          relaxed_sums(bulk, F, probe.data(), false, scratch, r.trial);
+          if (std::isfinite(r.trial.E) &&
+              r.trial.E <= sums.E + 1e-4 * alpha * slope + 1e-13 * std::abs(sums.E))
+            break;
+        }
+        shift.swap(probe);
+      }
+      break;
+    } catch (const NumericalError&) {
+      // a warm start from a distant F may lie where the sublattices no longer interact (W_ss = 0,
+      // no step): once more from s = 0 before giving up
+      if (!warmed || attempt > 0) throw;
+      std::fill(shift.begin(), shift.end(), 0.0);
     }
-    if (!std::isfinite(sums.E) || !g.allFinite() || !H.allFinite())
-      throw NumericalError(fmt::format(
-          "inner relaxation of the Cauchy–Born material: non-finite energy or force at F = [{}] "
-          "after {} Newton steps (atoms too close or beyond the potential's tables); use a "
-          "smaller deformation or the clamped-ion material (`pdcg elastic --clamped-ion`)",
-          matrix_text(F), it));
-    es.compute(H);
-    lmin = es.eigenvalues()(0);
-    lmax = std::max(std::abs(es.eigenvalues()(nf - 1)), 1e-300);
-    // Newton step on a positive definite W_ss; otherwise (not a minimum here) the step of the
-    // eigenvalues' magnitudes, floored at 1e-8·max (a descent direction), with the line search
-    const Eigen::VectorXd lam =
-        es.eigenvalues().cwiseAbs().cwiseMax(lmin > 1e-10 * lmax ? 0.0 : 1e-8 * lmax);
-    step = -es.eigenvectors() * (es.eigenvectors().transpose() * g).cwiseQuotient(lam);
-    // converged: W_ss positive definite and the Newton step ≤ 1e-10 d_nn — it is taken (no line
-    // search) and the state evaluated there; quadratic convergence leaves ~(1e-10)² d_nn, far
-    // below the round-off floor of the shifts (~1e-15 d_nn)
-    if (lmin > 1e-10 * lmax && step.cwiseAbs().maxCoeff() <= 1e-10 * length) {
-      if (final_step || step.cwiseAbs().maxCoeff() <= 1e-14 * length) break;  // (round-off)
-      final_step = true;
-      for (int f = 0; f < nf; ++f) shift[r.free_index(f)] += step(f);
-      continue;
-    }
-    final_step = false;
-    if (it >= max_iterations)
-      throw NumericalError(fmt::format(
-          "inner relaxation of the Cauchy–Born material did not converge at F = [{}]: {} Newton "
-          "steps, last step {:.3g} (nearest-neighbour distance {:.6g}), smallest eigenvalue of "
-          "W_ss {:.3g} (largest {:.3g}; ≤ 0: the basis is unstable at this F, the crystal would "
-          "transform). Use a smaller deformation, or the clamped-ion material "
-          "(`pdcg elastic --clamped-ion`)",
-          matrix_text(F), it, step.cwiseAbs().maxCoeff(), length, lmin, lmax));
-    // backtracking line search on the energy (Armijo 1e-4; the 1e-13·|E| allowance is the
-    // round-off of the energy sum, reached only in the quadratic regime where the full step
-    // is right)
-    const double slope = g.dot(step);
-    double alpha = 1.0;
-    for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
-      probe = shift;
-      for (int f = 0; f < nf; ++f) probe[r.free_index(f)] += alpha * step(f);
-      relaxed_sums(bulk, F, probe.data(), false, scratch, r.trial);
-      if (std::isfinite(r.trial.E) &&
-          r.trial.E <= sums.E + 1e-4 * alpha * slope + 1e-13 * std::abs(sums.E))
-        break;
-    }
-    shift.swap(probe);
-  }
   warm_id = key;
   warm = shift;
   return it;
@@ -545,7 +565,7 @@ CauchyBornState CauchyBorn::point_sum_relaxed(std::size_t p, const Eigen::Matrix
   thread_local Relaxation bulk, probe;
   thread_local Scratch scratch;
   thread_local RelaxSums pts;
-  thread_local Eigen::MatrixXd S, Sp, Sm;
+  thread_local Eigen::MatrixXd S;
   const int it = relax(true, F, bulk);
   const int nf = bulk.nf;
   const auto nsub = bulk_basis_;
@@ -583,47 +603,42 @@ CauchyBornState CauchyBorn::point_sum_relaxed(std::size_t p, const Eigen::Matrix
   const Eigen::MatrixXd corr = SE + SE.transpose() + S.transpose() * Ess * S;
   for (int r = 0; r < 9; ++r)
     for (int c = 0; c < 9; ++c) st.A(r, c) = pts.A[9 * r + c] + corr(r, c);
-  // dS/dF_q: central differences of the analytic S = −W_ss⁻¹ W_sF of the bulk at
-  // (F ± h e_q, s* ± h S e_q) — the shifts linearised, no Newton: s*(F ± h e_q) differs from
-  // them by h²/2·∂²s*/∂F_q² on both sides, which cancels in the difference to O(h²), the order
-  // of its truncation error h²/6·|∂³s*/∂F³| (the third derivatives of the potentials S' would
-  // need are not available); in-plane q only for a body of dimension 2 (plane strain: the
-  // out-of-plane entries are not used). Measured ≤ 1e-9 of A (docs/elastic.md §7).
-  constexpr double h = kPointShiftStep;
+  // ∂_s E_p · dS/dF (docs/theory.md (11.5)): with λ = −W_ss⁻¹ ∂_s E_p (the bulk's W_ss),
+  //   T_rq = Σ_f ∂_s E_p,f ∂S_f,r/∂F_q = W'''[u, v_r, v_q],  u = (0, λ), v_r = (e_r, S e_r),
+  // the bulk energy's third derivative along the relaxed path (v) and along λ (u). It is the
+  // central difference along u of the bulk's path Hessian M(s) = W_FF + Sᵀ W_sF + W_Fs S +
+  // Sᵀ W_ss S (S frozen) at s* ± δλ: two bulk sums with tangents, no Newton, symmetric by
+  // construction. Step: |δλ| = kPointShiftStep·d_nn; error O(δ²|λ|²·W⁽⁴⁾) (the third
+  // derivatives of the potentials it replaces are not available).
   Eigen::VectorXd gf(nf);
   for (int f = 0; f < nf; ++f) gf(f) = pts.g[bulk.free_index(f)];
-  auto sensitivity = [&](const Eigen::Matrix3d& Fs, Eigen::MatrixXd& out) {
-    relaxed_sums(true, Fs, probe.shift.data(), true, scratch, probe.sums);
-    Eigen::MatrixXd H(nf, nf), B(nf, 9);
+  const Eigen::VectorXd lambda =
+      -(bulk.es.eigenvectors() * (bulk.es.eigenvalues().cwiseInverse().asDiagonal() *
+                                  (bulk.es.eigenvectors().transpose() * gf)));
+  const double lmax = lambda.cwiseAbs().maxCoeff();
+  if (!(lmax > 0.0)) return st;  // ∂_s E_p = 0 (e.g. an interior atom of diamond): no term
+  const double delta = kPointShiftStep * bulk_nearest_ / lmax;
+  auto path_hessian = [&](double sign, Matrix9d& M) {
+    probe.shift = bulk.shift;
+    for (int f = 0; f < nf; ++f) probe.shift[bulk.free_index(f)] += sign * delta * lambda(f);
+    relaxed_sums(true, F, probe.shift.data(), true, scratch, probe.sums);
+    Eigen::MatrixXd Bs(nf, 9), Hs(nf, nf);
     for (int f = 0; f < nf; ++f) {
       for (int e = 0; e < nf; ++e)
-        H(f, e) = probe.sums.Ass[bulk.free_index(f) * m + bulk.free_index(e)];
+        Hs(f, e) = probe.sums.Ass[bulk.free_index(f) * m + bulk.free_index(e)];
       for (int c = 0; c < 9; ++c)
-        B(f, c) = probe.sums.Asf[bulk.free_index(f) * 9 + static_cast<std::size_t>(c)];
+        Bs(f, c) = probe.sums.Asf[bulk.free_index(f) * 9 + static_cast<std::size_t>(c)];
     }
-    out = -H.ldlt().solve(B);
+    const Eigen::MatrixXd SB = S.transpose() * Bs;
+    for (int r = 0; r < 9; ++r)
+      for (int c = 0; c < 9; ++c) M(r, c) = probe.sums.A[9 * r + c];
+    M += SB + SB.transpose() + S.transpose() * Hs * S;
   };
-  Matrix9d T = Matrix9d::Zero();
-  for (int q = 0; q < 9; ++q) {
-    if (body_.dimension == 2 && (q / 3 == 2 || q % 3 == 2)) continue;
-    Eigen::Matrix3d Fp = F, Fm = F;
-    Fp(q / 3, q % 3) += h;
-    Fm(q / 3, q % 3) -= h;
-    probe.shift = bulk.shift;
-    for (int f = 0; f < nf; ++f) probe.shift[bulk.free_index(f)] += h * S(f, q);
-    sensitivity(Fp, Sp);
-    probe.shift = bulk.shift;
-    for (int f = 0; f < nf; ++f) probe.shift[bulk.free_index(f)] -= h * S(f, q);
-    sensitivity(Fm, Sm);
-    T.col(q) = (Sp - Sm).transpose() * gf / (2 * h);  // Σ_f g_f ∂S_f,r/∂F_q
-    if (body_.dimension == 2)
-      for (int r = 0; r < 9; ++r)
-        if (r / 3 == 2 || r % 3 == 2) T(r, q) = 0.0;
-  }
-  // T_rq = Σ_f g_f ∂²s*_f/∂F_r∂F_q is symmetric; its central-difference estimate is not to
-  // O(h²) (measured 6e-9 of max|A| on a Tersoff Si bar, up to 8.5e-7 at the strained stencils of
-  // a BA scene, whose solver requires 1e-8): the antisymmetric part is error, dropped
-  st.A += 0.5 * (T + T.transpose());
+  Matrix9d Mp, Mm;
+  path_hessian(+1.0, Mp);
+  path_hessian(-1.0, Mm);
+  const Matrix9d T = (Mp - Mm) / (2 * delta);
+  st.A += 0.5 * (T + T.transpose());  // (symmetric already, to round-off)
   return st;
 }
 

@@ -100,8 +100,9 @@ class CauchyBorn {
   ///   E_p(F) = Σ_k w_kp ψ_k(Fξ_b + s*_{c(j)} − s*_{c(k)}),
   ///   ∂E_p/∂F = ∂_F E_p + ∂_s E_p · S,  S = ds*/dF = −W_ss⁻¹ W_sF (bulk),
   ///   ∂²E_p/∂F∂F = E_FF + E_Fs S + Sᵀ E_sF + Sᵀ E_ss S + ∂_s E_p · dS/dF,
-  /// dS/dF by central differences (step kPointShiftStep, shifts linearised) of the analytic S,
-  /// that term symmetrised (its exact value is); `shift` of the result holds s*(F). A material
+  /// the last term a third derivative of the bulk energy (docs/theory.md (11.5)), by central
+  /// differences of the bulk's path Hessian along λ = −W_ss⁻¹ ∂_s E_p (step kPointShiftStep·d_nn);
+  /// `shift` of the result holds s*(F). A material
   /// constructed without `per_point` whose evaluate() relaxes (relaxing()) throws InputError here.
   std::size_t point_count() const { return pt_offset_.size() - 1; }
   CauchyBornState point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent = true) const;
@@ -114,8 +115,8 @@ class CauchyBorn {
   /// Sublattices of the model's bulk crystal (the environment classes of its interior atoms);
   /// 0 when not detected.
   int point_basis() const { return bulk_basis_; }
-  /// Step in F of the central differences of S = ds*/dF in the per-point tangent.
-  static constexpr double kPointShiftStep = 1e-4;
+  /// Step |δλ| / d_nn of the central difference of the per-point tangent's dS/dF term.
+  static constexpr double kPointShiftStep = 1e-5;
 
   const Body& body() const { return body_; }
   /// Number of distinct atomic environments (atoms whose families coincide — same type and
