@@ -83,15 +83,7 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
       throw c.err(m["ion_relaxation"], "material.ion_relaxation", "unknown value")
           .value(v)
           .expected("automatic, relaxed or clamped");
-    if (s.material_per_point && v == "relaxed")
-      throw c
-          .err(m["ion_relaxation"], "material.ion_relaxation",
-               "the per-point material is clamped-ion (inner relaxation of nonhomogeneous "
-               "models is not implemented)")
-          .fix(
-              "remove material.per_point for the body-level relaxed material, or set "
-              "ion_relaxation: clamped");
-    if (v == "relaxed") {
+    if (v == "relaxed" && !s.material_per_point) {
       try {  // relaxed on request: the body must be a perfect crystal (refused here, with the line)
         body::CauchyBorn probe(*b, body::IonRelaxation::relaxed);
         (void)probe;
@@ -173,6 +165,22 @@ void load_cauchy_born(const Ctx& c, const YAML::Node& m, const std::filesystem::
           .value(fmt::format("material {} vs geometry {}", f.string(),
                              s.model_geometry->file.string()));
   }
+  if (s.material_per_point && s.material_ion_relaxation != "clamped" &&
+      fe.free_energy != "quasi-harmonic") {
+    // per point, relaxed: every atom must belong to a sublattice of the model's bulk crystal
+    // (refused here, with the line; `relaxed` also refuses a model without a bulk crystal)
+    try {
+      body::CauchyBorn probe(*b,
+                             s.material_ion_relaxation == "relaxed"
+                                 ? body::IonRelaxation::relaxed
+                                 : body::IonRelaxation::automatic,
+                             true);
+      (void)probe;
+    } catch (InputError& e) {
+      const auto& at = m["ion_relaxation"] ? m["ion_relaxation"] : m["per_point"];
+      throw e.line(at.Mark().line + 1);
+    }
+  }
   if (!m["density"]) {
     double mass = 0;
     for (double v : b->mass) mass += v;
@@ -239,19 +247,19 @@ class CauchyBornModel final : public MaterialModel {
       return;
     }
     if (s.material_per_point) out.value("per_point", true);
-    if (!s.material_per_point) out.value("ion_relaxation", s.material_ion_relaxation);
+    out.value("ion_relaxation", s.material_ion_relaxation);
   }
   std::unique_ptr<solver::Material> make(const Scene& s) const override {
     if (fe_.free_energy == "quasi-harmonic")
       return body::QuasiHarmonicCauchyBornMaterial::from_file(s.material_file, fe_.temperature,
                                                               fe_.step);
-    if (s.material_per_point)
-      return std::make_unique<body::PerPointCauchyBornMaterial>(
-          std::make_shared<const body::Body>(body::read_body(s.material_file)),
-          s.model_geometry->cloud.volume, s.material_file.string());
     const auto ion = s.material_ion_relaxation == "relaxed"   ? body::IonRelaxation::relaxed
                      : s.material_ion_relaxation == "clamped" ? body::IonRelaxation::clamped
                                                               : body::IonRelaxation::automatic;
+    if (s.material_per_point)
+      return std::make_unique<body::PerPointCauchyBornMaterial>(
+          std::make_shared<const body::Body>(body::read_body(s.material_file)),
+          s.model_geometry->cloud.volume, s.material_file.string(), ion);
     return body::CauchyBornMaterial::from_file(s.material_file, ion);
   }
 

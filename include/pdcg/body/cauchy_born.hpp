@@ -66,7 +66,13 @@ class CauchyBorn {
  public:
   /// Throws InputError for statistical bodies or bodies without families/volume, and (mode
   /// relaxed) for a body that is not a perfect crystal.
-  explicit CauchyBorn(const Body& body, IonRelaxation ion = IonRelaxation::automatic);
+  /// `per_point`: the object serves point_sum of a nonhomogeneous model (docs/elastic.md §7):
+  /// in a mode other than clamped, the atoms are assigned to the sublattices of the model's bulk
+  /// crystal (its interior atoms) and, for a crystal with a basis, point_sum uses the bulk's
+  /// relaxed shifts s*(F) (InputError naming the atom and the fix `ion_relaxation: clamped`
+  /// when an atom cannot be assigned). The body-level evaluate() is unchanged by it.
+  explicit CauchyBorn(const Body& body, IonRelaxation ion = IonRelaxation::automatic,
+                      bool per_point = false);
   /// True when evaluate() minimises over sublattice shifts (perfect crystal with a basis, mode
   /// not clamped). False for Bravais lattices (nothing to relax) and clamped-ion material.
   bool relaxing() const { return relax_; }
@@ -88,10 +94,29 @@ class CauchyBorn {
   ///   E_p(F) = Σ_k w_kp ψ_k(Fξ),  ∂E_p/∂F = Σ_k w_kp Σ_b t_b ⊗ ξ_b,  ∂²E_p/∂F∂F (as A),
   /// w_kp = 1 for k = p on a delta or rescaled body. Atoms of one environment class are
   /// evaluated once per point (interior points of a perfect crystal: one family). Serial,
-  /// thread-local work arrays: callable from the solver's OpenMP loops. Clamped-ion: a
-  /// relaxing material (relaxing()) throws InputError — construct it IonRelaxation::clamped.
+  /// thread-local work arrays: callable from the solver's OpenMP loops.
+  /// Inner relaxation (point_relaxing(); docs/theory.md §11, "per point"): every atom k sits at
+  /// Fξ + s*_{c(k)}(F), s* the bulk crystal's relaxed shifts (shared by all points), and
+  ///   E_p(F) = Σ_k w_kp ψ_k(Fξ_b + s*_{c(j)} − s*_{c(k)}),
+  ///   ∂E_p/∂F = ∂_F E_p + ∂_s E_p · S,  S = ds*/dF = −W_ss⁻¹ W_sF (bulk),
+  ///   ∂²E_p/∂F∂F = E_FF + E_Fs S + Sᵀ E_sF + Sᵀ E_ss S + ∂_s E_p · dS/dF,
+  /// the last term a third derivative of the bulk energy (docs/theory.md (11.5)), by central
+  /// differences of the bulk's path Hessian along λ = −W_ss⁻¹ ∂_s E_p (step kPointShiftStep·d_nn);
+  /// `shift` of the result holds s*(F). A material
+  /// constructed without `per_point` whose evaluate() relaxes (relaxing()) throws InputError here.
   std::size_t point_count() const { return pt_offset_.size() - 1; }
   CauchyBornState point_sum(std::size_t p, const Eigen::Matrix3d& F, bool tangent = true) const;
+  /// point_sum relaxes the sublattices with the bulk's shifts (per_point construction, mode not
+  /// clamped, bulk crystal with a basis). False for a Bravais bulk (nothing to relax).
+  bool point_relaxing() const { return pt_relax_; }
+  /// Per atom: its sublattice c(k) of the bulk crystal (0 … point_basis()−1); empty unless
+  /// the sublattices were assigned (per_point construction, mode not clamped).
+  const std::vector<std::int32_t>& sublattice() const { return sub_; }
+  /// Sublattices of the model's bulk crystal (the environment classes of its interior atoms);
+  /// 0 when not detected.
+  int point_basis() const { return bulk_basis_; }
+  /// Step |δλ| / d_nn of the central difference of the per-point tangent's dS/dF term.
+  static constexpr double kPointShiftStep = 1e-5;
 
   const Body& body() const { return body_; }
   /// Number of distinct atomic environments (atoms whose families coincide — same type and
@@ -114,13 +139,32 @@ class CauchyBorn {
   struct RelaxSums;
   void family_shifted(std::size_t slot, const Eigen::Matrix3d& F, const double* shift, bool tangent,
                       Scratch& s, RelaxSums& out) const;
-  void relaxed_sums(const Eigen::Matrix3d& F, const double* shift, bool tangent, Scratch& s,
-                    RelaxSums& out) const;
+  /// family_shifted for atom k of weight w, own site `own`, partner sites `partner` (one per
+  /// bond), `nsub` sites; `xi` the family's reference bonds (nullptr: derived into s.xi).
+  void family_sites(std::int64_t k, double w, const double* xi, int own,
+                    const std::int32_t* partner, int nsub, const Eigen::Matrix3d& F,
+                    const double* shift, bool tangent, Scratch& s, RelaxSums& out) const;
+  /// Sums over the body's classes (bulk = false) or over one atom per sublattice of the
+  /// model's bulk crystal (bulk = true, per-point relaxation).
+  void relaxed_sums(bool bulk, const Eigen::Matrix3d& F, const double* shift, bool tangent,
+                    Scratch& s, RelaxSums& out) const;
+  /// Newton on the free shifts of that set: converged shifts, sums (with tangent) and the
+  /// eigen-decomposition of W_ss on the free shifts; returns the Newton steps.
+  struct Relaxation;
+  int relax(bool bulk, const Eigen::Matrix3d& F, Relaxation& r) const;
   CauchyBornState evaluate_relaxed(const Eigen::Matrix3d& F, bool tangent) const;
+  CauchyBornState point_sum_relaxed(std::size_t p, const Eigen::Matrix3d& F, bool tangent) const;
+  void assign_sublattices(IonRelaxation ion);
   void require_clamped(const char* what) const;
   const Body& body_;
   bool relax_ = false, relaxed_values_ = false;
-  std::uint64_t id_ = 0;  ///< unique per object: key of the thread-local warm start
+  bool per_point_ = false, pt_relax_ = false;
+  int bulk_basis_ = 0;
+  double bulk_nearest_ = 0.0;
+  std::vector<std::int32_t> sub_;        ///< per atom: bulk sublattice (per-point relaxation)
+  std::vector<std::int32_t> bond_site_;  ///< per bond: the partner's sublattice
+  std::vector<std::int32_t> bulk_rep_;   ///< one interior atom per bulk sublattice
+  std::uint64_t id_ = 0;                 ///< unique per object: key of the thread-local warm start
   std::vector<std::int64_t> rep_sub_offset_;  ///< per class slot: CSR into rep_sub_
   std::vector<std::int32_t> rep_sub_;  ///< [own site, site of each family member …] per slot
   std::vector<std::int32_t> representative_;  ///< per atom: the atom evaluated for its class

@@ -12,8 +12,9 @@
 /// the in-plane blocks of P and A are filled (the convention of solver::Material).
 /// Inner relaxation: the body-level material relaxes the basis of a perfect crystal
 /// (IonRelaxation::automatic: relaxed W, P, A; a body that is not a perfect crystal is
-/// clamped-ion with a warning). The per-point material is clamped-ion (warning for a crystal
-/// whose basis would relax). Limits: one material for the whole body (body-level W); the
+/// clamped-ion with a warning). The per-point material of a crystal with a basis uses the
+/// relaxed shifts of the model's bulk crystal (CauchyBorn::point_sum; clamped-ion on request,
+/// with a warning). Limits: one material for the whole body (body-level W); the
 /// per-point form W_p of a homogenised body is CauchyBorn::points. Each evaluation costs one family
 /// per distinct atomic environment (one for a perfect Bravais crystal).
 #pragma once
@@ -183,12 +184,16 @@ class QuasiHarmonicCauchyBornMaterial final : public solver::Material {
 /// (the same volumes, so Σ_p V_p W_p(F) is the model's energy under Y = Fξ). The solver point
 /// index is the model point index (`geometry: {shape: model}` keeps the model's order); a BA
 /// stencil B_ij uses point i's material. evaluate(F) (no point) is the body-level W(F).
+/// Crystals with a basis (`ion` not clamped): every atom k sits at Fξ + s*_{c(k)}(F), s* the
+/// relaxed shifts of the model's bulk crystal (docs/elastic.md §7, docs/theory.md §11), so
+/// Σ_p V_p W_p(F) is the model's energy under those positions; InputError when the atoms cannot
+/// be assigned to the bulk's sublattices (fix: IonRelaxation::clamped).
 class PerPointCauchyBornMaterial final : public solver::Material {
  public:
   PerPointCauchyBornMaterial(std::shared_ptr<const Body> body, std::vector<double> volume,
-                             std::string source = {})
+                             std::string source = {}, IonRelaxation ion = IonRelaxation::automatic)
       : body_(std::move(body)),
-        cb_(std::make_shared<CauchyBorn>(*body_, IonRelaxation::clamped)),
+        cb_(std::make_shared<CauchyBorn>(*body_, ion, true)),
         volume_(std::make_shared<const std::vector<double>>(std::move(volume))),
         source_(std::move(source)) {
     if (volume_->size() != cb_->point_count())
@@ -201,14 +206,32 @@ class PerPointCauchyBornMaterial final : public solver::Material {
                 solver::Tangent* A) const override {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
-    return finish(cb_->evaluate(Ff, A != nullptr), 1.0, psi, P, A);
+    CauchyBornState s;
+    try {
+      s = cb_->evaluate(Ff, A != nullptr);
+    } catch (const NumericalError& e) {  // inner relaxation failed: an inadmissible state
+      static std::atomic<bool> said{false};
+      if (!said.exchange(true))
+        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+      return false;
+    }
+    return finish(s, 1.0, psi, P, A);
   }
   bool evaluate_at(int point, const solver::Mat3& F, double* psi, solver::Mat3* P,
                    solver::Tangent* A) const override {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
     const auto p = static_cast<std::size_t>(point);
-    return finish(cb_->point_sum(p, Ff, A != nullptr), 1.0 / (*volume_)[p], psi, P, A);
+    CauchyBornState s;
+    try {
+      s = cb_->point_sum(p, Ff, A != nullptr);
+    } catch (const NumericalError& e) {  // the bulk's relaxation failed: an inadmissible state
+      static std::atomic<bool> said{false};
+      if (!said.exchange(true))
+        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+      return false;
+    }
+    return finish(s, 1.0 / (*volume_)[p], psi, P, A);
   }
   solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {
     if (dimension() == 3) return F;

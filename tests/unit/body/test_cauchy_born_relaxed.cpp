@@ -9,7 +9,8 @@
 //    centre of inversion): shifts and corrections vanish to round-off;
 //  - homogenised and rescaled bodies keep the relaxed constants (W_ε = W);
 //  - bad input: a vacancy under mode relaxed is an InputError naming the lattice and the fix;
-//    the per-point sums refuse a relaxing material.
+//    the per-point sums refuse a body-level relaxing material (the per-point one relaxes with
+//    the bulk's shifts: test_per_point_relaxed.cpp).
 // Relaxed constants against LAMMPS's minimised stress differences: tests/cli/elastic_relaxed.sh.
 #include <gtest/gtest.h>
 
@@ -55,7 +56,7 @@ Atoms cubic_crystal(int n, double a, const std::vector<Eigen::Vector3d>& basis,
 Atoms diamond(int n, double a) {
   std::vector<Eigen::Vector3d> b;
   for (const Eigen::Vector3d& f : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 0.5, 0),
-                                  Eigen::Vector3d(0.5, 0, 0.5), Eigen::Vector3d(0, 0.5, 0.5)}) {
+                                   Eigen::Vector3d(0.5, 0, 0.5), Eigen::Vector3d(0, 0.5, 0.5)}) {
     b.push_back(f);
     b.push_back(f + Eigen::Vector3d(0.25, 0.25, 0.25));
   }
@@ -324,10 +325,17 @@ TEST(CauchyBornRelaxed, PerPointSumsAreClampedOnly) {
   const Model m = model(sw_cmds(), diamond(2, 5.431));
   const CauchyBorn cb(m.body);
   EXPECT_THROW((void)cb.point_sum(0, Eigen::Matrix3d::Identity()), InputError);
-  // the per-point solver material is built clamped-ion (and says so in its warning)
+  // the per-point solver material relaxes with the bulk's shifts (test_per_point_relaxed.cpp);
+  // clamped-ion on request
   const PerPointCauchyBornMaterial pp(std::make_shared<const Body>(m.body),
                                       std::vector<double>(m.body.size(), 1.0));
-  EXPECT_FALSE(pp.cauchy_born().relaxing());
+  EXPECT_TRUE(pp.cauchy_born().point_relaxing());
+  EXPECT_NO_THROW((void)pp.cauchy_born().point_sum(0, Eigen::Matrix3d::Identity()));
+  const PerPointCauchyBornMaterial pc(std::make_shared<const Body>(m.body),
+                                      std::vector<double>(m.body.size(), 1.0), "",
+                                      IonRelaxation::clamped);
+  EXPECT_FALSE(pc.cauchy_born().relaxing());
+  EXPECT_FALSE(pc.cauchy_born().point_relaxing());
   const CauchyBornMaterial bl(std::make_shared<const Body>(m.body));
   EXPECT_TRUE(bl.cauchy_born().relaxing());
 }

@@ -335,3 +335,65 @@ TEST(PerPointCauchyBorn, PerPointNeedsTheGeometrysModel) {
                bc);
   EXPECT_NE(m.find("material.per_point"), std::string::npos) << m;
 }
+
+// A Si slab (2 × 2 × 4 cells, free along z) with one surface atom moved off its lattice site:
+// per_point with the default (relaxed) ion relaxation is refused at load time with the line of
+// `per_point` (or of `ion_relaxation` when given) and the fix; `ion_relaxation: clamped` loads.
+TEST(PerPointCauchyBorn, AtomOffTheLatticeIsRefusedWithTheLine) {
+  const auto path = atomistic::find_potential_file("Si.sw");
+  if (!path) GTEST_SKIP() << "Si.sw not found (LAMMPS potentials)";
+  const auto spec = atomistic::read_potential_commands_from_string(
+      "units metal\nmass 1 28.0855\npair_style sw\npair_coeff * * " + *path + " Si\n", "si", 1);
+  const std::shared_ptr<const atomistic::Potential> pot = atomistic::make_potential(spec);
+  const double a = 5.431, vac = 8.0;
+  atomistic::Atoms at;
+  at.box.hi = {2 * a, 2 * a, 4 * a + 2 * vac};
+  at.box.periodic = {true, true, false};
+  std::int64_t id = 0;
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 4; ++k)
+        for (const Eigen::Vector3d& f :
+             {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 0.5, 0), Eigen::Vector3d(0.5, 0, 0.5),
+              Eigen::Vector3d(0, 0.5, 0.5)})
+          for (const double q : {0.0, 0.25}) {
+            const Eigen::Vector3d x = (Eigen::Vector3d(i, j, k) + f + Eigen::Vector3d(q, q, q)) * a;
+            at.id.push_back(++id);
+            at.type.push_back(1);
+            at.x.insert(at.x.end(), {x[0], x[1], x[2] + vac});
+          }
+  at.x[0] += 0.31;  // atom 1 (z = vac: on the lower surface) off its site
+  fs::create_directories(kDir);
+  body::write_body(
+      body::make_delta_body(at, pot, spec, {.dimension = 3, .cutoff = 0.0, .source = "si-slab"}),
+      kDir / "si_off.h5");
+  auto text = [](const std::string& extra) {
+    return "dimension: 3\n"
+           "geometry: {shape: model, file: si_off.h5}\n"
+           "material: {model: cauchy-born, file: si_off.h5,\n"
+           "           per_point: true" +
+           extra +
+           "}\n"
+           "boundary:\n  - {name: left, region: {x_max: 0.5}, displacement: {x: 0.0}}\n";
+  };
+  auto error_of = [&](const std::string& t) -> std::string {
+    std::ofstream(kDir / "si_off.yaml") << t;
+    try {
+      scene::load_scene(kDir / "si_off.yaml");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  for (const std::string extra : {"", ", ion_relaxation: relaxed"}) {
+    const std::string m = error_of(text(extra));
+    EXPECT_NE(m.find("cannot be assigned to the sublattices"), std::string::npos) << m;
+    EXPECT_NE(m.find("ion_relaxation: clamped"), std::string::npos) << m;
+    EXPECT_NE(m.find("atom id 1 "), std::string::npos) << m;
+    // per_point's / ion_relaxation's line
+    EXPECT_TRUE(m.find("si_off.yaml:4") != std::string::npos ||
+                m.find("line 4") != std::string::npos)
+        << m;
+  }
+  EXPECT_EQ(error_of(text(", ion_relaxation: clamped")), "(no error)");
+}
