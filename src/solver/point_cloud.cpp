@@ -5,10 +5,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "pdcg/core/error.hpp"
 
@@ -191,7 +193,39 @@ std::optional<Eigen::Matrix3d> detect_lattice(int d, const std::vector<Vec3>& x,
     }
     return true;
   };
-  if (hint && check(*hint)) return hint;
+  // A lattice that holds every point can still be denser than the cloud: the bond vectors of
+  // diamond or of a honeycomb sheet span a lattice with empty sites (the tetrahedral holes,
+  // the hexagons' centres), whose cell is a fraction of the volume per point (diamond a³/16
+  // against a³/8). A Bravais cloud has points whose 2d lattice neighbours x ± A e_a are all
+  // present (its interior); a cloud without one is not taken as a lattice.
+  auto filled = [&](const Eigen::Matrix3d& A) -> bool {
+    const Eigen::Matrix3d Ai = A.inverse();
+    std::unordered_set<std::int64_t> sites;
+    sites.reserve(2 * x.size());
+    const auto key = [](const Vec3& n) {
+      const auto c = [](double v) {
+        return static_cast<std::int64_t>(std::llround(v)) + (1 << 20);
+      };
+      return (c(n.x()) << 42) | (c(n.y()) << 21) | c(n.z());
+    };
+    std::vector<Vec3> idx(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      idx[i] = (Ai * (x[i] - x[0])).array().round().matrix();
+      sites.insert(key(idx[i]));
+    }
+    for (const auto& n : idx) {
+      bool all = true;
+      for (int a = 0; a < d && all; ++a)
+        for (double sgn : {-1.0, 1.0})
+          if (!sites.count(key(n + sgn * Vec3::Unit(a)))) {
+            all = false;
+            break;
+          }
+      if (all) return true;
+    }
+    return false;
+  };
+  if (hint && check(*hint) && filled(*hint)) return hint;
   // Central point: nearest to the centroid.
   Vec3 c = Vec3::Zero();
   for (const auto& p : x) c += p;
@@ -230,7 +264,7 @@ std::optional<Eigen::Matrix3d> detect_lattice(int d, const std::vector<Vec3>& x,
   }
   if (found < d) return std::nullopt;
   if (d == 2) A.col(2) = Vec3::UnitZ();
-  if (!check(A)) return std::nullopt;
+  if (!check(A) || !filled(A)) return std::nullopt;
   return A;
 }
 

@@ -129,9 +129,9 @@ output: {{directory: out, every: 1}}
       gamma, R[0], R[1], R[0] / R[1] - 1, R[2]);
   EXPECT_GT(R[0], 0.0);
   // interior points = the body-level relaxed material (1e-13 per point; Newton tolerance 1e-10),
-  // scaled by the volumes: the cloud's lattice rule gives V_p = a³/16, half the atomic volume
-  // a³/8, for the diamond point set (its nearest-neighbour vectors span a lattice twice as dense:
-  // docs/elastic.md §7.1 — a limitation of shape: model for non-Bravais sets, not of W_p)
+  // scaled by the volumes (ratio (V₀/N)/V_p: 1 since the cloud's lattice rule refuses the
+  // diamond set, whose bond vectors span a lattice twice as dense, and the Voronoi rule takes
+  // V₀/N; it was 2 before: docs/elastic.md §7.1)
   EXPECT_NEAR(R[0], R[1] * ratio, 1e-7 * std::abs(R[0]));
   EXPECT_LT(R[0], 0.95 * R[2]);  // relaxation softens shear (C44 56 vs 110 GPa)
 }

@@ -197,3 +197,45 @@ TEST(PointCloud, AffineFieldIsAnExactEquilibriumAwayFromTheSurface) {
     EXPECT_LT(surface / scale, 1e-12);   // f = P s at every point for a homogeneous state
   }
 }
+
+// Crystals with a basis are not lattices of their points: diamond's bond vectors span a lattice
+// of cell a³/16 that also holds the empty tetrahedral sites (diamond has a³/8 per atom), a
+// honeycomb's a triangular lattice of cell a²/(2√3) with the hexagons' centres empty (the sheet
+// has √3a²/4 per atom). The lattice rule took that cell as the point volume (a silent factor
+// 2 or 3/2 on every energy density of such a model); these clouds take the Voronoi rule and the
+// caller's volume per point, while an fcc cloud (Bravais) keeps the lattice rule with its
+// primitive cell a³/4 — closed forms.
+TEST(PointCloud, CrystalsWithABasisAreNotTakenForTheLatticeOfTheirBonds) {
+  const double a = 5.431;  // any lattice constant
+  std::vector<Vec3> diamond, fcc;
+  const Vec3 fcc_basis[4] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        for (const auto& b : fcc_basis) {
+          const Vec3 site = a * (Vec3(i, j, k) + b);
+          fcc.push_back(site);
+          diamond.push_back(site);
+          diamond.push_back(site + a * Vec3(0.25, 0.25, 0.25));
+        }
+  const double per_atom = a * a * a / 8;
+  const auto cd = analyse_cloud(3, diamond, {}, per_atom, {});
+  EXPECT_EQ(cd.rule, SurfaceRule::voronoi);
+  EXPECT_DOUBLE_EQ(cd.volume[0], per_atom);
+  const auto cf = analyse_cloud(3, fcc, {}, 1.0, {});
+  ASSERT_EQ(cf.rule, SurfaceRule::lattice);
+  EXPECT_NEAR(cf.volume[0], a * a * a / 4, 1e-12 * a * a * a);  // |det| of fcc's primitive cell
+  // honeycomb: two atoms per cell of the triangular lattice a1 = a(1, 0), a2 = a(½, √3/2)
+  std::vector<Vec3> honeycomb;
+  const Vec3 a1(a, 0, 0), a2(0.5 * a, 0.5 * std::sqrt(3.0) * a, 0);
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const Vec3 site = double(i) * a1 + double(j) * a2;
+      honeycomb.push_back(site);
+      honeycomb.push_back(site + (a1 + a2) / 3.0);
+    }
+  const double per_atom_2d = std::sqrt(3.0) * a * a / 4;
+  const auto ch = analyse_cloud(2, honeycomb, {}, per_atom_2d, {});
+  EXPECT_EQ(ch.rule, SurfaceRule::voronoi);
+  EXPECT_DOUBLE_EQ(ch.volume[0], per_atom_2d);
+}
