@@ -62,6 +62,20 @@ inline bool copy_cauchy_born_state(const CauchyBornState& s, double scale, int d
   }
   return true;
 }
+/// Runs `eval` (a Cauchy–Born evaluation) into s. A NumericalError — an inner relaxation or
+/// a lattice that failed at this F — is an inadmissible state for the solver: false, with one
+/// warning per call site (`said`).
+template <class Eval>
+bool evaluate_admissible(Eval&& eval, CauchyBornState& s, std::atomic<bool>& said) {
+  try {
+    s = eval();
+  } catch (const NumericalError& e) {
+    if (!said.exchange(true))
+      log::warn("{} (the solver treats such states as inadmissible)", e.what());
+    return false;
+  }
+  return true;
+}
 }  // namespace detail
 
 class CauchyBornMaterial final : public solver::Material {
@@ -88,14 +102,9 @@ class CauchyBornMaterial final : public solver::Material {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
     CauchyBornState s;
-    try {
-      s = cb_->evaluate(Ff, A != nullptr);
-    } catch (const NumericalError& e) {  // inner relaxation failed: an inadmissible state
-      static std::atomic<bool> said{false};
-      if (!said.exchange(true))
-        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+    static std::atomic<bool> said{false};  // inner relaxation failed: an inadmissible state
+    if (!detail::evaluate_admissible([&] { return cb_->evaluate(Ff, A != nullptr); }, s, said))
       return false;
-    }
     return detail::copy_cauchy_born_state(s, 1.0, dimension(), psi, P, A);
   }
   solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {
@@ -149,14 +158,9 @@ class QuasiHarmonicCauchyBornMaterial final : public solver::Material {
                 solver::Tangent* A) const override {
     if (!(F.determinant() > 0.0)) return false;
     CauchyBornState s;
-    try {
-      s = qh_->evaluate(F, A != nullptr);
-    } catch (const NumericalError& e) {  // unstable lattice: an inadmissible state
-      static std::atomic<bool> said{false};
-      if (!said.exchange(true))
-        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+    static std::atomic<bool> said{false};  // unstable lattice: an inadmissible state
+    if (!detail::evaluate_admissible([&] { return qh_->evaluate(F, A != nullptr); }, s, said))
       return false;
-    }
     return detail::copy_cauchy_born_state(s, 1.0, 3, psi, P, A);
   }
   solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override { return F; }
@@ -207,14 +211,9 @@ class PerPointCauchyBornMaterial final : public solver::Material {
     const solver::Mat3 Ff = full_deformation_gradient(F);
     if (!(Ff.determinant() > 0.0)) return false;
     CauchyBornState s;
-    try {
-      s = cb_->evaluate(Ff, A != nullptr);
-    } catch (const NumericalError& e) {  // inner relaxation failed: an inadmissible state
-      static std::atomic<bool> said{false};
-      if (!said.exchange(true))
-        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+    static std::atomic<bool> said{false};  // inner relaxation failed: an inadmissible state
+    if (!detail::evaluate_admissible([&] { return cb_->evaluate(Ff, A != nullptr); }, s, said))
       return false;
-    }
     return finish(s, 1.0, psi, P, A);
   }
   bool evaluate_at(int point, const solver::Mat3& F, double* psi, solver::Mat3* P,
@@ -223,14 +222,9 @@ class PerPointCauchyBornMaterial final : public solver::Material {
     if (!(Ff.determinant() > 0.0)) return false;
     const auto p = static_cast<std::size_t>(point);
     CauchyBornState s;
-    try {
-      s = cb_->point_sum(p, Ff, A != nullptr);
-    } catch (const NumericalError& e) {  // the bulk's relaxation failed: an inadmissible state
-      static std::atomic<bool> said{false};
-      if (!said.exchange(true))
-        log::warn("{} (the solver treats such states as inadmissible)", e.what());
+    static std::atomic<bool> said{false};  // the bulk's relaxation failed: an inadmissible state
+    if (!detail::evaluate_admissible([&] { return cb_->point_sum(p, Ff, A != nullptr); }, s, said))
       return false;
-    }
     return finish(s, 1.0 / (*volume_)[p], psi, P, A);
   }
   solver::Mat3 full_deformation_gradient(const solver::Mat3& F) const override {

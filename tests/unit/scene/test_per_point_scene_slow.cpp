@@ -95,7 +95,7 @@ output: {{directory: out, every: 1}}
   };
   double R[3], ratio = 0;
   int k = 0;
-  for (const std::string m :
+  for (const std::string& m :
        {std::string("{model: cauchy-born, file: si_cell.h5, per_point: true}"),
         std::string("{model: cauchy-born, file: si_cell.h5}"),
         std::string("{model: cauchy-born, file: si_cell.h5, per_point: true, "
